@@ -1,0 +1,38 @@
+// Reading and writing the mixed mesh: Gmsh MSH 4.1 (ASCII/binary) and 2.2 (ASCII) in,
+// MSH 4.1, VTK XML .vtu and Abaqus/CalculiX .inp out. Every write is atomic (temp + rename).
+#pragma once
+
+#include <filesystem>
+
+#include "mesher/mesh/mixed_mesh.hpp"
+
+namespace hexfem {
+
+// Reads a .msh file (format detected from its header). Throws hexfem::Error naming the file
+// and line on a corrupt or truncated file. Fills nc_cell/nc_local_face (flag_nonconformal_quads).
+MixedMesh read_msh(const std::filesystem::path& path);
+
+struct MshWriteOptions {
+  bool binary = false;
+};
+void write_msh(const MixedMesh& mesh, const std::filesystem::path& path,
+               const MshWriteOptions& options = {});
+
+// VTK XML unstructured grid. Cell data: kind (VTK type id), solid, quality (min scaled
+// Jacobian), nc (number of NC quad faces of the cell). Also writes <stem>_nc.vtu with the NC
+// quad faces as polygons, when there are any.
+void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path);
+
+// Abaqus/CalculiX input: *NODE (node i -> i+1), *ELEMENT (cell c -> c+1) as C3D8, C3D6, C3D4,
+// pyramids as C3D8 with the apex repeated; ELSETs EALL, E_HEX8, E_WEDGE6, E_PYRAMID5, E_TET4,
+// SOLID_<id>; NSETs NALL and FACE_<id> for each CAD face with boundary faces. Mesh only (no
+// material/step), so a deck can *INCLUDE it.
+void write_inp(const MixedMesh& mesh, const std::filesystem::path& path);
+
+// Writes by extension: .msh (options.binary), .vtu, .inp. Unknown extension: hexfem::Error.
+void write_mesh(const MixedMesh& mesh, const std::filesystem::path& path,
+                const MshWriteOptions& options = {});
+// Reads by extension (.msh only for now). Missing file / unknown extension: hexfem::Error.
+MixedMesh read_mesh(const std::filesystem::path& path);
+
+}  // namespace hexfem

@@ -1,0 +1,92 @@
+// The one mesh type of hexfem: the mesher produces it; fem, metrics and exporters read it.
+// Plain arrays (libigl style): a cell is an index into parallel vectors, with a fixed stride of 8
+// node slots so iteration needs no offsets table and no per-element heap objects.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace hexfem {
+
+using Vec3 = std::array<double, 3>;
+
+// Volume element kinds, Gmsh node ordering (see element_topology.hpp for the faces).
+enum class CellKind : std::uint8_t { Tet4 = 0, Pyramid5 = 1, Wedge6 = 2, Hex8 = 3 };
+inline constexpr int kNumCellKinds = 4;
+inline constexpr int kMaxCellNodes = 8;
+
+constexpr int num_nodes(CellKind k) {
+  switch (k) {
+    case CellKind::Tet4: return 4;
+    case CellKind::Pyramid5: return 5;
+    case CellKind::Wedge6: return 6;
+    case CellKind::Hex8: return 8;
+  }
+  return 0;
+}
+
+constexpr const char* kind_name(CellKind k) {
+  switch (k) {
+    case CellKind::Tet4: return "tet4";
+    case CellKind::Pyramid5: return "pyramid5";
+    case CellKind::Wedge6: return "wedge6";
+    case CellKind::Hex8: return "hex8";
+  }
+  return "?";
+}
+
+struct MixedMesh {
+  // Node coordinates, 0-based indices everywhere.
+  std::vector<Vec3> nodes;
+
+  // Volume cells. cell_nodes holds kMaxCellNodes slots per cell; unused slots are -1.
+  std::vector<CellKind> cell_kind;
+  std::vector<std::int32_t> cell_nodes;
+  std::vector<std::int32_t> cell_solid;     // CAD solid id (MSH: elementary volume tag)
+  std::vector<std::int32_t> cell_physical;  // MSH physical tag, 0 if none
+
+  // Boundary faces (triangles and quads). bface_nodes holds 4 slots per face; a triangle has -1 last.
+  std::vector<std::int32_t> bface_nodes;
+  std::vector<std::int32_t> bface_cad_face;  // CAD face id (MSH: elementary surface tag)
+  std::vector<std::int32_t> bface_physical;  // MSH physical tag, 0 if none
+
+  // Interior quad faces that touch triangles instead of an identical quad (non-conformal, NC):
+  // the cell and its local face index (element_topology.hpp). Filled by flag_nonconformal_quads().
+  std::vector<std::int32_t> nc_cell;
+  std::vector<std::int8_t> nc_local_face;
+
+  // Physical group names as read from or written to MSH: (dimension, tag) -> name.
+  std::map<std::pair<int, int>, std::string> physical_names;
+
+  std::size_t num_cells() const { return cell_kind.size(); }
+  std::size_t num_bfaces() const { return bface_cad_face.size(); }
+  const std::int32_t* cell(std::size_t c) const { return &cell_nodes[kMaxCellNodes * c]; }
+  const std::int32_t* bface(std::size_t f) const { return &bface_nodes[4 * f]; }
+  bool bface_is_quad(std::size_t f) const { return bface_nodes[4 * f + 3] >= 0; }
+
+  // Appends a cell; `ids` holds num_nodes(kind) node indices.
+  void add_cell(CellKind kind, const std::int32_t* ids, std::int32_t solid = 1,
+                std::int32_t physical = 0) {
+    cell_kind.push_back(kind);
+    const int n = num_nodes(kind);
+    for (int i = 0; i < kMaxCellNodes; ++i) cell_nodes.push_back(i < n ? ids[i] : -1);
+    cell_solid.push_back(solid);
+    cell_physical.push_back(physical);
+  }
+  void add_cell(CellKind kind, std::initializer_list<std::int32_t> ids, std::int32_t solid = 1,
+                std::int32_t physical = 0) {
+    add_cell(kind, ids.begin(), solid, physical);
+  }
+  // Appends a boundary triangle (d < 0) or quad.
+  void add_bface(std::int32_t a, std::int32_t b, std::int32_t c, std::int32_t d,
+                 std::int32_t cad_face, std::int32_t physical = 0) {
+    bface_nodes.insert(bface_nodes.end(), {a, b, c, d});
+    bface_cad_face.push_back(cad_face);
+    bface_physical.push_back(physical);
+  }
+};
+
+}  // namespace hexfem
