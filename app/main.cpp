@@ -16,8 +16,9 @@ std::vector<CommandSpec>& command_registry() {
 
 int main(int argc, char** argv) {
   using namespace hexfem;
-  CLI::App app{"hexfem: hex-dominant meshes of CAD parts (Baudouin et al. 2014) and their natural "
-               "frequencies"};
+  CLI::App app{
+      "hexfem: hex-dominant meshes of CAD parts (Baudouin et al. 2014) and their natural "
+      "frequencies"};
   app.set_version_flag("--version", std::string("hexfem ") + HEXFEM_VERSION);
   app.require_subcommand(1);
 

@@ -9,7 +9,7 @@
 namespace hexfem {
 
 struct LocalFace {
-  int n;                  // 3 or 4
+  int n;                 // 3 or 4
   std::array<int, 4> v;  // local node indices, outward orientation; v[3] = -1 for triangles
 };
 
@@ -18,34 +18,35 @@ struct CellFaces {
   std::array<LocalFace, 6> face;
 };
 
-constexpr CellFaces faces_of(CellKind k) {
-  switch (k) {
-    case CellKind::Tet4:
-      return {4, {{{3, {0, 2, 1, -1}}, {3, {0, 1, 3, -1}}, {3, {0, 3, 2, -1}}, {3, {1, 2, 3, -1}}}}};
-    case CellKind::Pyramid5:
-      return {5,
-              {{{4, {0, 3, 2, 1}},
-                {3, {0, 1, 4, -1}},
-                {3, {1, 2, 4, -1}},
-                {3, {2, 3, 4, -1}},
-                {3, {3, 0, 4, -1}}}}};
-    case CellKind::Wedge6:
-      return {5,
-              {{{3, {0, 2, 1, -1}},
-                {3, {3, 4, 5, -1}},
-                {4, {0, 1, 4, 3}},
-                {4, {0, 3, 5, 2}},
-                {4, {1, 2, 5, 4}}}}};
-    case CellKind::Hex8:
-      return {6,
-              {{{4, {0, 3, 2, 1}},
-                {4, {0, 1, 5, 4}},
-                {4, {0, 4, 7, 3}},
-                {4, {1, 2, 6, 5}},
-                {4, {2, 3, 7, 6}},
-                {4, {4, 5, 6, 7}}}}};
-  }
-  return {0, {}};
+inline constexpr CellFaces kCellFaces[kNumCellKinds] = {
+    // Tet4
+    {4, {{{3, {0, 2, 1, -1}}, {3, {0, 1, 3, -1}}, {3, {0, 3, 2, -1}}, {3, {1, 2, 3, -1}}}}},
+    // Pyramid5
+    {5,
+     {{{4, {0, 3, 2, 1}},
+       {3, {0, 1, 4, -1}},
+       {3, {1, 2, 4, -1}},
+       {3, {2, 3, 4, -1}},
+       {3, {3, 0, 4, -1}}}}},
+    // Wedge6
+    {5,
+     {{{3, {0, 2, 1, -1}},
+       {3, {3, 4, 5, -1}},
+       {4, {0, 1, 4, 3}},
+       {4, {0, 3, 5, 2}},
+       {4, {1, 2, 5, 4}}}}},
+    // Hex8
+    {6,
+     {{{4, {0, 3, 2, 1}},
+       {4, {0, 1, 5, 4}},
+       {4, {0, 4, 7, 3}},
+       {4, {1, 2, 6, 5}},
+       {4, {2, 3, 7, 6}},
+       {4, {4, 5, 6, 7}}}}}};
+
+// Faces of a kind; a reference into a static table (safe to keep).
+constexpr const CellFaces& faces_of(CellKind k) {
+  return kCellFaces[static_cast<int>(k)];
 }
 
 // For each corner of a cell: the corners joined to it by an edge, ordered so that
@@ -64,13 +65,9 @@ constexpr CornerEdges corners_of(CellKind k) {
     case CellKind::Pyramid5:
       return {4, {{{0, 1, 3, 4}, {1, 2, 0, 4}, {2, 3, 1, 4}, {3, 0, 2, 4}}}};
     case CellKind::Wedge6:
-      return {6,
-              {{{0, 1, 2, 3},
-                {1, 2, 0, 4},
-                {2, 0, 1, 5},
-                {3, 5, 4, 0},
-                {4, 3, 5, 1},
-                {5, 4, 3, 2}}}};
+      return {
+          6,
+          {{{0, 1, 2, 3}, {1, 2, 0, 4}, {2, 0, 1, 5}, {3, 5, 4, 0}, {4, 3, 5, 1}, {5, 4, 3, 2}}}};
     case CellKind::Hex8:
       return {8,
               {{{0, 1, 3, 4},

@@ -20,20 +20,28 @@ inline constexpr int kMaxCellNodes = 8;
 
 constexpr int num_nodes(CellKind k) {
   switch (k) {
-    case CellKind::Tet4: return 4;
-    case CellKind::Pyramid5: return 5;
-    case CellKind::Wedge6: return 6;
-    case CellKind::Hex8: return 8;
+    case CellKind::Tet4:
+      return 4;
+    case CellKind::Pyramid5:
+      return 5;
+    case CellKind::Wedge6:
+      return 6;
+    case CellKind::Hex8:
+      return 8;
   }
   return 0;
 }
 
 constexpr const char* kind_name(CellKind k) {
   switch (k) {
-    case CellKind::Tet4: return "tet4";
-    case CellKind::Pyramid5: return "pyramid5";
-    case CellKind::Wedge6: return "wedge6";
-    case CellKind::Hex8: return "hex8";
+    case CellKind::Tet4:
+      return "tet4";
+    case CellKind::Pyramid5:
+      return "pyramid5";
+    case CellKind::Wedge6:
+      return "wedge6";
+    case CellKind::Hex8:
+      return "hex8";
   }
   return "?";
 }
@@ -48,7 +56,8 @@ struct MixedMesh {
   std::vector<std::int32_t> cell_solid;     // CAD solid id (MSH: elementary volume tag)
   std::vector<std::int32_t> cell_physical;  // MSH physical tag, 0 if none
 
-  // Boundary faces (triangles and quads). bface_nodes holds 4 slots per face; a triangle has -1 last.
+  // Boundary faces (triangles and quads). bface_nodes holds 4 slots per face; a triangle has -1
+  // last.
   std::vector<std::int32_t> bface_nodes;
   std::vector<std::int32_t> bface_cad_face;  // CAD face id (MSH: elementary surface tag)
   std::vector<std::int32_t> bface_physical;  // MSH physical tag, 0 if none

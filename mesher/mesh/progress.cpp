@@ -10,7 +10,9 @@ namespace {
 bool g_line_open = false;
 }
 
-bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) == 1; }
+bool stderr_is_terminal() {
+  return ::isatty(STDERR_FILENO) == 1;
+}
 
 void show_progress(const std::string& message) {
   if (!stderr_is_terminal()) return;

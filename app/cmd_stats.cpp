@@ -1,0 +1,33 @@
+// hexfem stats mesh.msh [--json]: the paper's measures of a mixed mesh.
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "app/command_registry.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/mesh_io.hpp"
+#include "mesher/mesh/mesh_stats.hpp"
+
+namespace hexfem {
+namespace {
+
+RegisterCommand reg{{"stats", "Element counts, H_nbr, H_vol, Q, NC, validity and volume of a mesh",
+                     [](CLI::App& sub) -> std::function<int()> {
+                       auto path = std::make_shared<std::string>();
+                       auto json = std::make_shared<bool>(false);
+                       sub.add_option("mesh", *path, "Mesh file (.msh)")->required();
+                       sub.add_flag("--json", *json, "Print the measures as JSON");
+                       return [path, json] {
+                         const MixedMesh mesh = read_mesh(*path);
+                         if (mesh.num_cells() == 0)
+                           throw Error("'" + *path + "' has no volume elements");
+                         const MeshStats s = compute_stats(mesh);
+                         if (*json)
+                           std::printf("%s\n", stats_to_json(s).dump(2).c_str());
+                         else
+                           std::printf("%s", stats_to_text(s).c_str());
+                         return 0;
+                       };
+                     }}};
+
+}  // namespace
+}  // namespace hexfem

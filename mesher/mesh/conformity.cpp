@@ -1,0 +1,82 @@
+#include "mesher/mesh/conformity.hpp"
+
+#include "mesher/mesh/face_keys.hpp"
+
+namespace hexfem {
+
+std::vector<CellFaceRef> sorted_cell_faces(const MixedMesh& mesh) {
+  std::vector<CellFaceRef> faces;
+  faces.reserve(mesh.num_cells() * 5);
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+    const CellFaces cf = faces_of(mesh.cell_kind[c]);
+    for (int f = 0; f < cf.count; ++f)
+      faces.push_back({face_key(mesh.cell(c), cf.face[f]), static_cast<std::int32_t>(c),
+                       static_cast<std::int8_t>(f)});
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+bool face_used_by_other_cell(const std::vector<CellFaceRef>& faces, const FaceKey& key,
+                             std::int32_t cell) {
+  auto it = std::lower_bound(faces.begin(), faces.end(), CellFaceRef{key, -1, -1});
+  for (; it != faces.end() && it->key == key; ++it)
+    if (it->cell != cell) return true;
+  return false;
+}
+
+namespace {
+
+// A quad face that no other quad matches is non-conformal when another cell has a triangle
+// face on three of its four corners (it is then interior, just split); otherwise it is boundary.
+bool quad_touches_triangles(const std::vector<CellFaceRef>& faces, const FaceKey& quad,
+                            std::int32_t cell) {
+  for (int skip = 0; skip < 4; ++skip) {
+    std::int32_t t[3];
+    int n = 0;
+    for (int i = 0; i < 4; ++i)
+      if (i != skip) t[n++] = quad[i];
+    if (face_used_by_other_cell(faces, triangle_key(t[0], t[1], t[2]), cell)) return true;
+  }
+  return false;
+}
+
+template <class Visit>
+void for_each_interior_quad(const MixedMesh& mesh, Visit visit) {
+  const std::vector<CellFaceRef> faces = sorted_cell_faces(mesh);
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (faces[i].key[0] >= 0) {  // a quad
+      if (j - i >= 2) {
+        visit(faces[i], /*matched=*/true);
+      } else if (quad_touches_triangles(faces, faces[i].key, faces[i].cell)) {
+        visit(faces[i], /*matched=*/false);
+      }
+    }
+    i = j;
+  }
+}
+
+}  // namespace
+
+void flag_nonconformal_quads(MixedMesh& mesh) {
+  mesh.nc_cell.clear();
+  mesh.nc_local_face.clear();
+  for_each_interior_quad(mesh, [&](const CellFaceRef& f, bool matched) {
+    if (matched) return;
+    mesh.nc_cell.push_back(f.cell);
+    mesh.nc_local_face.push_back(f.local);
+  });
+}
+
+QuadFaceCounts count_quad_faces(const MixedMesh& mesh) {
+  QuadFaceCounts counts;
+  for_each_interior_quad(mesh, [&](const CellFaceRef&, bool matched) {
+    ++counts.interior;
+    if (!matched) ++counts.nonconformal;
+  });
+  return counts;
+}
+
+}  // namespace hexfem

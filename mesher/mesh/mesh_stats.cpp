@@ -1,0 +1,175 @@
+#include "mesher/mesh/mesh_stats.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "mesher/mesh/conformity.hpp"
+#include "mesher/mesh/face_keys.hpp"
+#include "mesher/mesh/quality.hpp"
+
+namespace hexfem {
+
+namespace {
+
+// Faces of the boundary of the cell complex: cell faces that no other cell shares, minus the
+// interior NC quads and the triangles that meet them.
+std::vector<FaceKey> derived_boundary_faces(const MixedMesh& mesh,
+                                            const std::vector<CellFaceRef>& faces,
+                                            std::vector<const CellFaceRef*>& refs) {
+  std::vector<FaceKey> nc_quads;
+  for (std::size_t i = 0; i < mesh.nc_cell.size(); ++i) {
+    const auto c = mesh.nc_cell[i];
+    nc_quads.push_back(
+        face_key(mesh.cell(c), faces_of(mesh.cell_kind[c]).face[mesh.nc_local_face[i]]));
+  }
+  std::sort(nc_quads.begin(), nc_quads.end());
+  // Triangles covering NC quads: any triangle on three corners of an NC quad.
+  std::vector<FaceKey> nc_tris;
+  for (const FaceKey& q : nc_quads)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::int32_t t[3];
+      int n = 0;
+      for (int i = 0; i < 4; ++i)
+        if (i != skip) t[n++] = q[i];
+      nc_tris.push_back(triangle_key(t[0], t[1], t[2]));
+    }
+  std::sort(nc_tris.begin(), nc_tris.end());
+
+  std::vector<FaceKey> boundary;
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    const FaceKey& k = faces[i].key;
+    const bool is_quad = k[0] >= 0;
+    const bool nc = is_quad ? std::binary_search(nc_quads.begin(), nc_quads.end(), k)
+                            : std::binary_search(nc_tris.begin(), nc_tris.end(), k);
+    if (j - i == 1 && !nc) {
+      boundary.push_back(k);
+      refs.push_back(&faces[i]);
+    }
+    i = j;
+  }
+  return boundary;
+}
+
+}  // namespace
+
+MeshStats compute_stats(const MixedMesh& mesh) {
+  MeshStats s;
+  s.num_nodes = mesh.nodes.size();
+  s.num_cells = mesh.num_cells();
+  s.num_boundary_faces = mesh.num_bfaces();
+  std::array<double, kNumCellKinds> vol_per_kind{};
+  std::array<double, kNumCellKinds> min_sj;
+  min_sj.fill(std::numeric_limits<double>::max());
+  double q_sum = 0;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+    const int k = static_cast<int>(mesh.cell_kind[c]);
+    ++s.cells_per_kind[k];
+    const double v = cell_volume(mesh, c);
+    vol_per_kind[k] += v;
+    s.volume += v;
+    const double sj = cell_min_scaled_jacobian(mesh, c);
+    min_sj[k] = std::min(min_sj[k], sj);
+    if (mesh.cell_kind[c] == CellKind::Hex8) q_sum += sj;
+    if (cell_is_inverted(mesh, c)) ++s.inverted;
+  }
+  for (int k = 0; k < kNumCellKinds; ++k)
+    s.min_sj_per_kind[k] = s.cells_per_kind[k] ? min_sj[k] : 0.0;
+  const int hex = static_cast<int>(CellKind::Hex8);
+  if (s.num_cells) s.h_nbr = 100.0 * s.cells_per_kind[hex] / s.num_cells;
+  if (s.volume > 0) s.h_vol = 100.0 * vol_per_kind[hex] / s.volume;
+  if (s.cells_per_kind[hex]) {
+    s.q_mean = q_sum / s.cells_per_kind[hex];
+    s.q_min = s.min_sj_per_kind[hex];
+  }
+
+  const QuadFaceCounts qc = count_quad_faces(mesh);
+  s.interior_quads = qc.interior;
+  s.nonconformal_quads = qc.nonconformal;
+  if (qc.interior) s.nc_percent = 100.0 * qc.nonconformal / qc.interior;
+
+  // Watertightness of the derived boundary: every edge in exactly two boundary faces.
+  MixedMesh flagged;
+  const MixedMesh* m = &mesh;
+  if (mesh.nc_cell.empty() && qc.nonconformal > 0) {
+    flagged = mesh;
+    flag_nonconformal_quads(flagged);
+    m = &flagged;
+  }
+  const std::vector<CellFaceRef> faces = sorted_cell_faces(*m);
+  std::vector<const CellFaceRef*> refs;
+  const std::vector<FaceKey> boundary = derived_boundary_faces(*m, faces, refs);
+  s.boundary_faces_derived = boundary.size();
+  std::vector<std::pair<std::int32_t, std::int32_t>> edges;
+  for (const CellFaceRef* r : refs) {
+    const LocalFace& lf = faces_of(m->cell_kind[r->cell]).face[r->local];
+    const std::int32_t* ids = m->cell(r->cell);
+    for (int i = 0; i < lf.n; ++i) {
+      std::int32_t a = ids[lf.v[i]], b = ids[lf.v[(i + 1) % lf.n]];
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i != 2) ++s.open_boundary_edges;
+    i = j;
+  }
+  s.watertight = s.num_cells > 0 && s.open_boundary_edges == 0;
+  return s;
+}
+
+nlohmann::json stats_to_json(const MeshStats& s) {
+  nlohmann::json j;
+  j["nodes"] = s.num_nodes;
+  j["cells"] = s.num_cells;
+  nlohmann::json per_kind, min_sj;
+  for (int k = 0; k < kNumCellKinds; ++k) {
+    per_kind[kind_name(static_cast<CellKind>(k))] = s.cells_per_kind[k];
+    min_sj[kind_name(static_cast<CellKind>(k))] = s.min_sj_per_kind[k];
+  }
+  j["cells_per_kind"] = per_kind;
+  j["min_scaled_jacobian"] = min_sj;
+  j["boundary_faces"] = s.num_boundary_faces;
+  j["H_nbr"] = s.h_nbr;
+  j["H_vol"] = s.h_vol;
+  j["Q_mean"] = s.q_mean;
+  j["Q_min"] = s.q_min;
+  j["inverted"] = s.inverted;
+  j["interior_quads"] = s.interior_quads;
+  j["nonconformal_quads"] = s.nonconformal_quads;
+  j["NC"] = s.nc_percent;
+  j["open_boundary_edges"] = s.open_boundary_edges;
+  j["watertight"] = s.watertight;
+  j["volume"] = s.volume;
+  return j;
+}
+
+std::string stats_to_text(const MeshStats& s) {
+  char buf[2048];
+  std::snprintf(buf, sizeof buf,
+                "nodes            %zu\n"
+                "cells            %zu (hex8 %zu, wedge6 %zu, pyramid5 %zu, tet4 %zu)\n"
+                "H_nbr            %.2f %%\n"
+                "H_vol            %.2f %%\n"
+                "Q (hex mean/min) %.4f / %.4f\n"
+                "min scaled Jac.  hex8 %.4f, wedge6 %.4f, pyramid5 %.4f, tet4 %.4f\n"
+                "inverted         %zu\n"
+                "NC               %.2f %% (%zu of %zu interior quad faces)\n"
+                "boundary         %s (%zu faces, %zu open edges)\n"
+                "volume           %.10g\n",
+                s.num_nodes, s.num_cells, s.cells_per_kind[3], s.cells_per_kind[2],
+                s.cells_per_kind[1], s.cells_per_kind[0], s.h_nbr, s.h_vol, s.q_mean, s.q_min,
+                s.min_sj_per_kind[3], s.min_sj_per_kind[2], s.min_sj_per_kind[1],
+                s.min_sj_per_kind[0], s.inverted, s.nc_percent, s.nonconformal_quads,
+                s.interior_quads, s.watertight ? "watertight" : "NOT watertight",
+                s.boundary_faces_derived, s.open_boundary_edges, s.volume);
+  return buf;
+}
+
+}  // namespace hexfem

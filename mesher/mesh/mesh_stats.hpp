@@ -1,0 +1,40 @@
+// The paper's mesh measures (H_nbr, H_vol, Q, NC) and validity checks, for `hexfem stats`.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <nlohmann/json_fwd.hpp>
+
+#include "mesher/mesh/mixed_mesh.hpp"
+
+namespace hexfem {
+
+struct MeshStats {
+  std::size_t num_nodes = 0;
+  std::array<std::size_t, kNumCellKinds> cells_per_kind{};  // indexed by CellKind
+  std::size_t num_cells = 0;
+  std::size_t num_boundary_faces = 0;  // stored boundary triangles + quads
+  double h_nbr = 0;                    // % of cells that are hexes
+  double h_vol = 0;                    // % of volume in hexes
+  double q_mean = 0;                   // mean over hexes of the min corner scaled Jacobian
+  double q_min = 0;                    // min over hexes (0 when there is no hex)
+  std::array<double, kNumCellKinds> min_sj_per_kind{};  // 0 when the kind is absent
+  std::size_t inverted = 0;                             // cells with a corner Jacobian <= 0
+  std::size_t interior_quads = 0;
+  std::size_t nonconformal_quads = 0;
+  double nc_percent = 0;                   // % of interior quad faces that are NC
+  std::size_t boundary_faces_derived = 0;  // cell faces on the boundary
+  std::size_t open_boundary_edges = 0;     // boundary edges not shared by exactly 2 faces
+  bool watertight = false;
+  double volume = 0;
+};
+
+MeshStats compute_stats(const MixedMesh& mesh);
+
+// The same, as JSON (keys as the field names, per-kind maps keyed by kind_name()).
+nlohmann::json stats_to_json(const MeshStats& s);
+
+// A short human-readable report (one quantity per line).
+std::string stats_to_text(const MeshStats& s);
+
+}  // namespace hexfem

@@ -1,0 +1,249 @@
+// VTK XML (.vtu) and Abaqus/CalculiX (.inp) writers, and the by-extension dispatch.
+#include <charconv>
+#include <concepts>
+#include <set>
+#include <string>
+
+#include "mesher/mesh/atomic_file.hpp"
+#include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/mesh_io.hpp"
+#include "mesher/mesh/quality.hpp"
+
+namespace hexfem {
+
+namespace {
+
+// VTK cell type ids, and Gmsh -> VTK node order (the VTK wedge's first triangle faces outward).
+int vtk_type(CellKind k) {
+  switch (k) {
+    case CellKind::Tet4:
+      return 10;
+    case CellKind::Pyramid5:
+      return 14;
+    case CellKind::Wedge6:
+      return 13;
+    case CellKind::Hex8:
+      return 12;
+  }
+  return 0;
+}
+constexpr int kWedgeToVtk[6] = {0, 2, 1, 3, 5, 4};
+
+void put(std::string& s, double v) {
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  s.append(buf, r.ptr);
+  s.push_back(' ');
+}
+template <class T>
+requires std::integral<T>
+void put(std::string& s, T v) {
+  char buf[24];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  s.append(buf, r.ptr);
+  s.push_back(' ');
+}
+
+template <class Fn>
+void data_array(std::string& s, const char* type, const char* name, int components, std::size_t n,
+                Fn value) {
+  s += std::string("<DataArray type=\"") + type + "\" Name=\"" + name + "\" NumberOfComponents=\"" +
+       std::to_string(components) + "\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    value(i);
+    if (i % 8 == 7) s.push_back('\n');
+  }
+  s += "\n</DataArray>\n";
+}
+
+// One unstructured grid of `n` cells; `cell(i, ids)` returns the VTK type and fills VTK-ordered
+// ids.
+template <class CellFn, class DataFn>
+std::string vtu_text(const std::vector<Vec3>& nodes, std::size_t n, CellFn cell, DataFn cell_data) {
+  std::string s;
+  s.reserve(64 * (nodes.size() + n));
+  s += "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+       "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n";
+  s += "<Piece NumberOfPoints=\"" + std::to_string(nodes.size()) + "\" NumberOfCells=\"" +
+       std::to_string(n) + "\">\n<Points>\n";
+  data_array(s, "Float64", "Points", 3, nodes.size(), [&](std::size_t i) {
+    for (double x : nodes[i]) put(s, x);
+  });
+  s += "</Points>\n<Cells>\n";
+  std::vector<long long> types(n), offsets(n);
+  std::string conn;
+  long long offset = 0;
+  std::int32_t ids[8];
+  for (std::size_t i = 0; i < n; ++i) {
+    int count = 0;
+    types[i] = cell(i, ids, count);
+    for (int k = 0; k < count; ++k) put(conn, ids[k]);
+    conn.push_back('\n');
+    offset += count;
+    offsets[i] = offset;
+  }
+  s += "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n" + conn +
+       "</DataArray>\n";
+  data_array(s, "Int64", "offsets", 1, n, [&](std::size_t i) { put(s, offsets[i]); });
+  data_array(s, "UInt8", "types", 1, n, [&](std::size_t i) { put(s, types[i]); });
+  s += "</Cells>\n<CellData>\n";
+  cell_data(s);
+  s += "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  return s;
+}
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  write_atomically(path, false, [&](std::ostream& out) { out << text; });
+}
+
+}  // namespace
+
+void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path) {
+  std::string text;
+  if (mesh.num_cells() > 0) {
+    std::vector<int> nc_count(mesh.num_cells(), 0);
+    for (std::int32_t c : mesh.nc_cell) ++nc_count[c];
+    text = vtu_text(
+        mesh.nodes, mesh.num_cells(),
+        [&](std::size_t c, std::int32_t* ids, int& count) {
+          const CellKind k = mesh.cell_kind[c];
+          count = num_nodes(k);
+          for (int i = 0; i < count; ++i)
+            ids[i] = mesh.cell(c)[k == CellKind::Wedge6 ? kWedgeToVtk[i] : i];
+          return vtk_type(k);
+        },
+        [&](std::string& s) {
+          const std::size_t n = mesh.num_cells();
+          data_array(s, "Int32", "kind", 1, n,
+                     [&](std::size_t c) { put(s, vtk_type(mesh.cell_kind[c])); });
+          data_array(s, "Int32", "solid", 1, n, [&](std::size_t c) { put(s, mesh.cell_solid[c]); });
+          data_array(s, "Float64", "quality", 1, n,
+                     [&](std::size_t c) { put(s, cell_min_scaled_jacobian(mesh, c)); });
+          data_array(s, "Int32", "nc", 1, n, [&](std::size_t c) { put(s, nc_count[c]); });
+        });
+  } else {
+    // A surface mesh: its boundary faces, tagged by CAD face.
+    text = vtu_text(
+        mesh.nodes, mesh.num_bfaces(),
+        [&](std::size_t f, std::int32_t* ids, int& count) {
+          count = mesh.bface_is_quad(f) ? 4 : 3;
+          for (int i = 0; i < count; ++i) ids[i] = mesh.bface(f)[i];
+          return count == 4 ? 9 : 5;
+        },
+        [&](std::string& s) {
+          data_array(s, "Int32", "cad_face", 1, mesh.num_bfaces(),
+                     [&](std::size_t f) { put(s, mesh.bface_cad_face[f]); });
+        });
+  }
+  write_text(path, text);
+
+  // The NC quad faces on their own, so they can be shown over the cut mesh in ParaView.
+  if (mesh.nc_cell.empty()) return;
+  std::filesystem::path nc_path = path;
+  nc_path.replace_filename(path.stem().string() + "_nc.vtu");
+  const std::string nc_text = vtu_text(
+      mesh.nodes, mesh.nc_cell.size(),
+      [&](std::size_t i, std::int32_t* ids, int& count) {
+        const std::int32_t c = mesh.nc_cell[i];
+        const LocalFace& f = faces_of(mesh.cell_kind[c]).face[mesh.nc_local_face[i]];
+        count = 4;
+        for (int k = 0; k < 4; ++k) ids[k] = mesh.cell(c)[f.v[k]];
+        return 9;
+      },
+      [&](std::string& s) {
+        data_array(s, "Int32", "cell", 1, mesh.nc_cell.size(),
+                   [&](std::size_t i) { put(s, mesh.nc_cell[i]); });
+      });
+  write_text(nc_path, nc_text);
+}
+
+void write_inp(const MixedMesh& mesh, const std::filesystem::path& path) {
+  std::string s;
+  s.reserve(80 * (mesh.nodes.size() + mesh.num_cells()));
+  s += "** hexfem mixed mesh: node i -> i+1, cell c -> c+1\n";
+  s += "*NODE, NSET=NALL\n";
+  for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+    put(s, static_cast<long long>(i + 1));
+    for (double x : mesh.nodes[i]) {
+      s.back() = ',';
+      put(s, x);
+    }
+    s.back() = '\n';
+  }
+  struct KindOut {
+    CellKind kind;
+    const char* type;
+    const char* elset;
+  };
+  const KindOut kinds[] = {{CellKind::Hex8, "C3D8", "E_HEX8"},
+                           {CellKind::Wedge6, "C3D6", "E_WEDGE6"},
+                           {CellKind::Pyramid5, "C3D8", "E_PYRAMID5"},
+                           {CellKind::Tet4, "C3D4", "E_TET4"}};
+  std::vector<std::string> used_elsets;
+  for (const KindOut& k : kinds) {
+    bool any = false;
+    for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+      if (mesh.cell_kind[c] != k.kind) continue;
+      if (!any) {
+        if (k.kind == CellKind::Pyramid5)
+          s += "** CalculiX has no pyramid: each pyramid is a C3D8 with the apex repeated "
+               "(nodes 1 2 3 4 5 5 5 5)\n";
+        s += std::string("*ELEMENT, TYPE=") + k.type + ", ELSET=" + k.elset + "\n";
+        used_elsets.push_back(k.elset);
+        any = true;
+      }
+      put(s, static_cast<long long>(c + 1));
+      const std::int32_t* ids = mesh.cell(c);
+      const int n = k.kind == CellKind::Pyramid5 ? 8 : num_nodes(k.kind);
+      for (int i = 0; i < n; ++i) {
+        s.back() = ',';
+        put(s, static_cast<long long>(ids[std::min(i, num_nodes(k.kind) - 1)] + 1));
+      }
+      s.back() = '\n';
+    }
+  }
+  auto id_list = [&](const std::vector<long long>& ids) {
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      put(s, ids[i]);
+      s.back() = (i % 16 == 15 || i + 1 == ids.size()) ? '\n' : ',';
+    }
+  };
+  s += "*ELSET, ELSET=EALL\n";
+  for (std::size_t i = 0; i < used_elsets.size(); ++i)
+    s += used_elsets[i] + (i + 1 == used_elsets.size() ? "\n" : ", ");
+  std::map<int, std::vector<long long>> by_solid;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) by_solid[mesh.cell_solid[c]].push_back(c + 1);
+  for (const auto& [solid, ids] : by_solid) {
+    s += "*ELSET, ELSET=SOLID_" + std::to_string(solid) + "\n";
+    id_list(ids);
+  }
+  std::map<int, std::set<long long>> by_face;
+  for (std::size_t f = 0; f < mesh.num_bfaces(); ++f)
+    for (int i = 0; i < (mesh.bface_is_quad(f) ? 4 : 3); ++i)
+      by_face[mesh.bface_cad_face[f]].insert(mesh.bface(f)[i] + 1);
+  for (const auto& [face, ids] : by_face) {
+    s += "*NSET, NSET=FACE_" + std::to_string(face) + "\n";
+    id_list(std::vector<long long>(ids.begin(), ids.end()));
+  }
+  write_text(path, s);
+}
+
+void write_mesh(const MixedMesh& mesh, const std::filesystem::path& path,
+                const MshWriteOptions& options) {
+  const std::string ext = lower_extension(path);
+  if (ext == "msh") return write_msh(mesh, path, options);
+  if (ext == "vtu") return write_vtu(mesh, path);
+  if (ext == "inp") return write_inp(mesh, path);
+  throw Error("unknown output format '." + ext + "' for '" + path.string() +
+              "' (use .msh, .vtu or .inp)");
+}
+
+MixedMesh read_mesh(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) throw Error("file not found: '" + path.string() + "'");
+  const std::string ext = lower_extension(path);
+  if (ext == "msh") return read_msh(path);
+  throw Error("unknown mesh format '." + ext + "' for '" + path.string() + "' (hexfem reads .msh)");
+}
+
+}  // namespace hexfem
