@@ -1,0 +1,213 @@
+// Geometric queries of CadModel: points and derivatives on edges and faces, curvature,
+// projection, the trimmed-domain test. All const and safe to call from several threads.
+#include <BRep_Tool.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <GeomLProp_CLProps.hxx>
+#include <GeomLProp_SLProps.hxx>
+#include <Standard_Failure.hxx>
+#include <TopoDS.hxx>
+#include <cmath>
+#include <gp_Pnt2d.hxx>
+
+#include "mesher/cad/cad_impl.hpp"
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+
+const char* surface_type_name(SurfaceType type) {
+  switch (type) {
+    case SurfaceType::Plane:
+      return "plane";
+    case SurfaceType::Cylinder:
+      return "cylinder";
+    case SurfaceType::Cone:
+      return "cone";
+    case SurfaceType::Sphere:
+      return "sphere";
+    case SurfaceType::Torus:
+      return "torus";
+    case SurfaceType::Bezier:
+      return "bezier";
+    case SurfaceType::BSpline:
+      return "bspline";
+    case SurfaceType::Revolution:
+      return "revolution";
+    case SurfaceType::Extrusion:
+      return "extrusion";
+    case SurfaceType::Offset:
+      return "offset";
+    case SurfaceType::Other:
+      return "other";
+  }
+  return "other";
+}
+
+namespace {
+template <class T>
+const T& at(const std::vector<T>& v, int id, const char* what) {
+  if (id < 1 || id > static_cast<int>(v.size()))
+    throw Error(std::string("no ") + what + " with id " + std::to_string(id));
+  return v[static_cast<std::size_t>(id - 1)];
+}
+}  // namespace
+
+Vec3 CadModel::vertex_point(int v) const {
+  return to_vec(at(impl_->vertices, v, "vertex"));
+}
+double CadModel::vertex_tolerance(int v) const {
+  return at(impl_->vertex_tol, v, "vertex");
+}
+
+bool CadModel::edge_degenerate(int e) const {
+  return at(impl_->edges, e, "edge").degenerate;
+}
+bool CadModel::edge_closed(int e) const {
+  const auto& d = at(impl_->edges, e, "edge");
+  return d.vertices[0] == d.vertices[1];
+}
+Vec2 CadModel::edge_range(int e) const {
+  const auto& d = at(impl_->edges, e, "edge");
+  return {d.first, d.last};
+}
+std::array<int, 2> CadModel::edge_vertices(int e) const {
+  return at(impl_->edges, e, "edge").vertices;
+}
+double CadModel::edge_length(int e) const {
+  return at(impl_->edges, e, "edge").length;
+}
+const std::vector<int>& CadModel::faces_of_edge(int e) const {
+  return at(impl_->edges, e, "edge").faces;
+}
+
+Vec3 CadModel::edge_point(int e, double t) const {
+  const auto& d = at(impl_->edges, e, "edge");
+  if (d.degenerate) return vertex_point(d.vertices[0]);
+  return to_vec(d.curve->Value(t));
+}
+
+Vec3 CadModel::edge_derivative(int e, double t) const {
+  const auto& d = at(impl_->edges, e, "edge");
+  if (d.degenerate) return {0, 0, 0};
+  gp_Pnt p;
+  gp_Vec v;
+  d.curve->D1(t, p, v);
+  return to_vec(v);
+}
+
+double CadModel::edge_curvature(int e, double t) const {
+  const auto& d = at(impl_->edges, e, "edge");
+  if (d.degenerate) return 0;
+  try {
+    GeomLProp_CLProps props(d.curve, t, 2, 1e-9);
+    if (!props.IsTangentDefined()) return 0;
+    return std::abs(props.Curvature());
+  } catch (const Standard_Failure&) {
+    return 0;
+  }
+}
+
+SurfaceType CadModel::surface_type(int f) const {
+  return at(impl_->faces, f, "face").type;
+}
+std::array<double, 4> CadModel::uv_bounds(int f) const {
+  return at(impl_->faces, f, "face").bounds;
+}
+Vec2 CadModel::periods(int f) const {
+  return at(impl_->faces, f, "face").periods;
+}
+bool CadModel::face_reversed(int f) const {
+  return at(impl_->faces, f, "face").reversed;
+}
+const std::vector<CoEdge>& CadModel::coedges(int f) const {
+  return at(impl_->faces, f, "face").coedges;
+}
+double CadModel::face_area(int f) const {
+  return at(impl_->faces, f, "face").area;
+}
+Vec3 CadModel::face_centroid(int f) const {
+  return at(impl_->faces, f, "face").centroid;
+}
+BBox3 CadModel::face_bbox(int f) const {
+  return at(impl_->faces, f, "face").bbox;
+}
+const std::vector<int>& CadModel::solids_of_face(int f) const {
+  return at(impl_->faces, f, "face").solids;
+}
+
+SurfaceDerivs CadModel::eval(int f, Vec2 uv) const {
+  const auto& d = at(impl_->faces, f, "face");
+  gp_Pnt p;
+  gp_Vec du, dv;
+  d.surface->D1(uv[0], uv[1], p, du, dv);
+  return {to_vec(p), to_vec(du), to_vec(dv)};
+}
+
+Vec3 CadModel::point(int f, Vec2 uv) const {
+  return to_vec(at(impl_->faces, f, "face").surface->Value(uv[0], uv[1]));
+}
+
+Vec3 CadModel::normal(int f, Vec2 uv) const {
+  const auto& d = at(impl_->faces, f, "face");
+  gp_Pnt p;
+  gp_Vec du, dv;
+  d.surface->D1(uv[0], uv[1], p, du, dv);
+  gp_Vec n = du.Crossed(dv);
+  const double len = n.Magnitude();
+  if (len < 1e-300) {
+    // Singular point (pole, apex): the curvature-based normal from the second derivatives.
+    GeomLProp_SLProps props(d.surface, uv[0], uv[1], 1, 1e-9);
+    if (!props.IsNormalDefined()) return {0, 0, 0};
+    gp_Dir nd = props.Normal();
+    if (d.reversed) nd.Reverse();
+    return {nd.X(), nd.Y(), nd.Z()};
+  }
+  n /= len;
+  if (d.reversed) n.Reverse();
+  return to_vec(n);
+}
+
+double CadModel::max_curvature(int f, Vec2 uv) const {
+  const auto& d = at(impl_->faces, f, "face");
+  if (d.type == SurfaceType::Plane) return 0;
+  try {
+    GeomLProp_SLProps props(d.surface, uv[0], uv[1], 2, 1e-9);
+    if (!props.IsCurvatureDefined()) return 0;
+    return std::max(std::abs(props.MaxCurvature()), std::abs(props.MinCurvature()));
+  } catch (const Standard_Failure&) {
+    return 0;
+  }
+}
+
+Vec2 CadModel::project(int f, const Vec3& p) const {
+  const auto& d = at(impl_->faces, f, "face");
+  try {
+    GeomAPI_ProjectPointOnSurf proj(gp_Pnt(p[0], p[1], p[2]), d.surface, d.bounds[0], d.bounds[1],
+                                    d.bounds[2], d.bounds[3]);
+    if (proj.NbPoints() > 0) {
+      double u = 0, v = 0;
+      proj.LowerDistanceParameters(u, v);
+      return {u, v};
+    }
+  } catch (const Standard_Failure&) {
+  }
+  throw Error("face " + std::to_string(f) + ": cannot project a point onto its surface");
+}
+
+bool CadModel::contains(int f, Vec2 uv) const {
+  const auto& d = at(impl_->faces, f, "face");
+  std::call_once(*d.classifier_once, [&d] {
+    d.classifier = std::make_unique<BRepTopAdaptor_FClass2d>(
+        TopoDS::Face(d.face.Oriented(TopAbs_FORWARD)), BRep_Tool::Tolerance(d.face));
+  });
+  // No periodic wrapping: a point past the seam is outside, the other side of the seam is
+  // filled from its own copy of the seam points.
+  return d.classifier->Perform(gp_Pnt2d(uv[0], uv[1]), false) != TopAbs_OUT;
+}
+
+Vec2 CadModel::coedge_uv(int f, int c, double t) const {
+  const auto& d = at(impl_->faces, f, "face");
+  const gp_Pnt2d p = d.coedge_data.at(static_cast<std::size_t>(c)).pcurve->Value(t);
+  return {p.X(), p.Y()};
+}
+
+}  // namespace hexfem

@@ -1,0 +1,454 @@
+// Reading CAD files into CadModel: format detection, units, sewing of surface models into
+// solids, stable ids (TopExp::MapShapes order on the compound of solids).
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepGProp.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <GCPnts_AbscissaPoint.hxx>
+#include <GProp_GProps.hxx>
+#include <IGESControl_Reader.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <Interface_Static.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
+#include <STEPControl_Reader.hxx>
+#include <ShapeFix_Solid.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_SequenceOfAsciiString.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Wire.hxx>
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <fstream>
+
+#include "mesher/cad/cad_impl.hpp"
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// OCCT prints warnings on stdout by default; hexfem's stdout carries --json output.
+void silence_occt() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
+  });
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Millimetres per unit for the unit names STEP and IGES files use.
+double mm_per_unit(const std::string& name) {
+  const std::string n = lower(name);
+  if (n == "mm" || n == "millimetre" || n == "millimeter") return 1.0;
+  if (n == "m" || n == "metre" || n == "meter") return 1000.0;
+  if (n == "cm" || n == "centimetre" || n == "centimeter") return 10.0;
+  if (n == "km") return 1e6;
+  if (n == "um" || n == "micron" || n == "micrometre") return 1e-3;
+  if (n == "in" || n == "inch" || n == "inches") return 25.4;
+  if (n == "ft" || n == "foot" || n == "feet") return 304.8;
+  if (n == "mil") return 0.0254;
+  if (n == "mi" || n == "mile") return 1609344.0;
+  return 0.0;  // unknown
+}
+
+std::string read_head(const fs::path& path, std::size_t n) {
+  std::ifstream in(path, std::ios::binary);
+  std::string s(n, '\0');
+  in.read(s.data(), static_cast<std::streamsize>(n));
+  s.resize(static_cast<std::size_t>(in.gcount()));
+  return s;
+}
+
+TopoDS_Shape read_step(const fs::path& path, CadModel::Impl& m) {
+  const std::string head = read_head(path, 64);
+  if (head.find("ISO-10303-21") == std::string::npos)
+    throw Error("'" + path.string() + "' is not a STEP file (no ISO-10303-21 header)");
+  STEPControl_Reader reader;
+  // Convert every length to millimetres on transfer (the unit the mesher works in).
+  Interface_Static::SetCVal("xstep.cascade.unit", "MM");
+  if (reader.ReadFile(path.string().c_str()) != IFSelect_RetDone)
+    throw Error("'" + path.string() + "' is not a readable STEP file (syntax error or truncated)");
+  TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
+  reader.FileUnits(lengths, angles, solid_angles);
+  m.file_unit =
+      lengths.IsEmpty() ? std::string("mm (none declared)") : lower(lengths.First().ToCString());
+  if (!lengths.IsEmpty()) {
+    const double s = mm_per_unit(m.file_unit);
+    if (s == 0.0) throw Error("STEP file unit '" + m.file_unit + "' is not supported");
+    m.unit_scale = s;
+  }
+  for (int i = 2; i <= lengths.Length(); ++i)
+    if (lower(lengths.Value(i).ToCString()) != m.file_unit)
+      m.warnings.push_back("the STEP file mixes length units; each was converted to mm");
+  if (reader.TransferRoots() == 0 || reader.NbShapes() == 0)
+    throw Error("'" + path.string() + "' contains no shape that can be transferred");
+  return reader.OneShape();
+}
+
+TopoDS_Shape read_iges(const fs::path& path, CadModel::Impl& m) {
+  IGESControl_Reader reader;
+  Interface_Static::SetCVal("xstep.cascade.unit", "MM");
+  if (reader.ReadFile(path.string().c_str()) != IFSelect_RetDone)
+    throw Error("'" + path.string() + "' is not a readable IGES file");
+  const auto& global = reader.IGESModel()->GlobalSection();
+  const Handle(TCollection_HAsciiString) name = global.UnitName();
+  // IGES global section unit flag (IGES 5.3, section 2.2.4.3, parameter 14).
+  static const std::array<const char*, 12> kFlagUnits = {
+      "", "inch", "mm", "", "ft", "mi", "m", "km", "mil", "um", "cm", "microinch"};
+  const int flag = global.UnitFlag();
+  std::string unit = flag > 0 && flag < 12 ? kFlagUnits[flag] : "";
+  if (unit.empty() && !name.IsNull()) unit = lower(name->ToCString());
+  if (unit == "microinch") {
+    m.unit_scale = 25.4e-6;
+  } else {
+    m.unit_scale = mm_per_unit(unit);
+  }
+  if (m.unit_scale == 0.0) throw Error("IGES file unit '" + unit + "' is not supported");
+  m.file_unit = unit;
+  if (reader.TransferRoots() == 0 || reader.NbShapes() == 0)
+    throw Error("'" + path.string() + "' contains no shape that can be transferred");
+  return reader.OneShape();
+}
+
+TopoDS_Shape read_brep(const fs::path& path, CadModel::Impl& m) {
+  TopoDS_Shape shape;
+  BRep_Builder builder;
+  if (!BRepTools::Read(shape, path.string().c_str(), builder) || shape.IsNull())
+    throw Error("'" + path.string() + "' is not a readable OCCT BREP file");
+  m.file_unit = "mm (BREP has no unit; assumed)";
+  return shape;
+}
+
+double signed_volume(const TopoDS_Shape& s) {
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(s, props);
+  return props.Mass();
+}
+
+// Builds solids out of the shells and faces of a surface model by sewing; throws when no
+// closed shell comes out.
+std::vector<TopoDS_Solid> sew_into_solids(const TopoDS_Shape& shape, const BBox3& box,
+                                          CadModel::Impl& m) {
+  const double diag =
+      std::hypot(box.max[0] - box.min[0], box.max[1] - box.min[1], box.max[2] - box.min[2]);
+  BRepBuilderAPI_Sewing sewing(std::max(1e-6, 1e-6 * diag));
+  int nfaces = 0;
+  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next(), ++nfaces)
+    sewing.Add(ex.Current());
+  if (nfaces == 0) throw Error("the file holds no solid and no surface");
+  sewing.Perform();
+  std::vector<TopoDS_Solid> solids;
+  int open_shells = 0;
+  const TopoDS_Shape sewn = sewing.SewedShape();
+  auto try_shell = [&](const TopoDS_Shell& shell) {
+    if (!BRep_Tool::IsClosed(shell)) {
+      ++open_shells;
+      return;
+    }
+    ShapeFix_Solid fix;
+    solids.push_back(fix.SolidFromShell(shell));
+  };
+  if (sewn.ShapeType() == TopAbs_FACE) {
+    // A single closed face (a sphere as one periodic B-spline surface) sews into no shell.
+    TopoDS_Shell shell;
+    BRep_Builder b;
+    b.MakeShell(shell);
+    b.Add(shell, sewn);
+    shell.Closed(BRep_Tool::IsClosed(shell));
+    try_shell(shell);
+  } else {
+    for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next())
+      try_shell(TopoDS::Shell(ex.Current()));
+  }
+  if (solids.empty()) {
+    throw Error(m.format + " surfaces do not close into a solid (" +
+                std::to_string(sewing.NbFreeEdges()) + " free edges after sewing)");
+  }
+  m.warnings.push_back("sewed " + std::to_string(nfaces) + " surfaces into " +
+                       std::to_string(solids.size()) + " solid(s)");
+  if (open_shells > 0) m.warnings.push_back(std::to_string(open_shells) + " open shell(s) ignored");
+  return solids;
+}
+
+// Free edges of a solid (edges used by only one face): a solid with any is not closed.
+int free_edge_count(const TopoDS_Shape& solid) {
+  TopTools_IndexedDataMapOfShapeListOfShape ef;
+  TopExp::MapShapesAndAncestors(solid, TopAbs_EDGE, TopAbs_FACE, ef);
+  int n = 0;
+  for (int i = 1; i <= ef.Extent(); ++i) {
+    const TopoDS_Edge& e = TopoDS::Edge(ef.FindKey(i));
+    if (BRep_Tool::Degenerated(e)) continue;
+    int uses = 0;
+    for (const auto& f : ef.FindFromIndex(i)) {
+      uses += BRep_Tool::IsClosed(e, TopoDS::Face(f)) ? 2 : 1;
+    }
+    if (uses < 2) ++n;
+  }
+  return n;
+}
+
+SurfaceType surface_type_of(const TopoDS_Face& f) {
+  switch (BRepAdaptor_Surface(f, false).GetType()) {
+    case GeomAbs_Plane:
+      return SurfaceType::Plane;
+    case GeomAbs_Cylinder:
+      return SurfaceType::Cylinder;
+    case GeomAbs_Cone:
+      return SurfaceType::Cone;
+    case GeomAbs_Sphere:
+      return SurfaceType::Sphere;
+    case GeomAbs_Torus:
+      return SurfaceType::Torus;
+    case GeomAbs_BezierSurface:
+      return SurfaceType::Bezier;
+    case GeomAbs_BSplineSurface:
+      return SurfaceType::BSpline;
+    case GeomAbs_SurfaceOfRevolution:
+      return SurfaceType::Revolution;
+    case GeomAbs_SurfaceOfExtrusion:
+      return SurfaceType::Extrusion;
+    case GeomAbs_OffsetSurface:
+      return SurfaceType::Offset;
+    default:
+      return SurfaceType::Other;
+  }
+}
+
+}  // namespace
+
+BBox3 shape_bbox(const TopoDS_Shape& shape) {
+  Bnd_Box box;
+  BRepBndLib::AddOptimal(shape, box, false, false);
+  BBox3 b;
+  if (box.IsVoid()) return b;
+  box.Get(b.min[0], b.min[1], b.min[2], b.max[0], b.max[1], b.max[2]);
+  return b;
+}
+
+void CadModel::Impl::build_tables() {
+  TopExp::MapShapes(part, TopAbs_VERTEX, vertex_map);
+  TopExp::MapShapes(part, TopAbs_EDGE, edge_map);
+  TopExp::MapShapes(part, TopAbs_FACE, face_map);
+  TopExp::MapShapes(part, TopAbs_SOLID, solid_map);
+
+  for (int i = 1; i <= vertex_map.Extent(); ++i) {
+    const TopoDS_Vertex& v = TopoDS::Vertex(vertex_map(i));
+    vertices.push_back(BRep_Tool::Pnt(v));
+    vertex_tol.push_back(BRep_Tool::Tolerance(v));
+  }
+
+  edges.resize(edge_map.Extent());
+  for (int i = 1; i <= edge_map.Extent(); ++i) {
+    EdgeData& e = edges[i - 1];
+    e.edge = TopoDS::Edge(edge_map(i).Oriented(TopAbs_FORWARD));
+    e.degenerate = BRep_Tool::Degenerated(e.edge);
+    BRep_Tool::Range(e.edge, e.first, e.last);
+    if (!e.degenerate) {
+      e.curve = BRep_Tool::Curve(e.edge, e.first, e.last);
+      if (e.curve.IsNull()) e.degenerate = true;
+    }
+    TopoDS_Vertex v1, v2;
+    TopExp::Vertices(e.edge, v1, v2);
+    e.vertices = {v1.IsNull() ? 0 : vertex_map.FindIndex(v1),
+                  v2.IsNull() ? 0 : vertex_map.FindIndex(v2)};
+    if (!e.degenerate) e.length = GCPnts_AbscissaPoint::Length(BRepAdaptor_Curve(e.edge));
+  }
+
+  faces.resize(face_map.Extent());
+  solids.resize(solid_map.Extent());
+  std::vector<bool> seen(faces.size(), false);
+  for (int s = 1; s <= solid_map.Extent(); ++s) {
+    SolidData& sd = solids[s - 1];
+    sd.solid = TopoDS::Solid(solid_map(s));
+    for (TopExp_Explorer ex(sd.solid, TopAbs_FACE); ex.More(); ex.Next()) {
+      const int f = face_map.FindIndex(ex.Current());
+      if (std::find(sd.faces.begin(), sd.faces.end(), f) == sd.faces.end()) sd.faces.push_back(f);
+      faces[f - 1].solids.push_back(s);
+      if (!seen[f - 1]) {
+        seen[f - 1] = true;
+        faces[f - 1].face = TopoDS::Face(ex.Current());
+      }
+    }
+    sd.volume = signed_volume(sd.solid);
+    sd.bbox = shape_bbox(sd.solid);
+    volume += sd.volume;
+  }
+
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    FaceData& fd = faces[i];
+    if (!seen[i]) fd.face = TopoDS::Face(face_map(static_cast<int>(i) + 1));
+    fd.reversed = fd.face.Orientation() == TopAbs_REVERSED;
+    fd.surface = BRep_Tool::Surface(fd.face);
+    fd.type = surface_type_of(fd.face);
+    BRepTools::UVBounds(fd.face, fd.bounds[0], fd.bounds[1], fd.bounds[2], fd.bounds[3]);
+    if (fd.surface->IsUPeriodic()) fd.periods[0] = fd.surface->UPeriod();
+    if (fd.surface->IsVPeriodic()) fd.periods[1] = fd.surface->VPeriod();
+    // Coedges in wire order; the face is taken FORWARD so the wire orientation is the one
+    // of the parameter plane (outer wire counter-clockwise).
+    const TopoDS_Face fwd = TopoDS::Face(fd.face.Oriented(TopAbs_FORWARD));
+    const TopoDS_Wire outer = BRepTools::OuterWire(fwd);
+    std::vector<TopoDS_Wire> wires;
+    if (!outer.IsNull()) wires.push_back(outer);
+    for (TopExp_Explorer w(fwd, TopAbs_WIRE); w.More(); w.Next())
+      if (!w.Current().IsSame(outer)) wires.push_back(TopoDS::Wire(w.Current()));
+    for (std::size_t w = 0; w < wires.size(); ++w) {
+      for (TopExp_Explorer ex(wires[w], TopAbs_EDGE); ex.More(); ex.Next()) {
+        const TopoDS_Edge& ed = TopoDS::Edge(ex.Current());
+        CoEdge ce;
+        ce.edge = edge_map.FindIndex(ed);
+        ce.reversed = ed.Orientation() == TopAbs_REVERSED;
+        ce.wire = static_cast<int>(w);
+        ce.seam = BRep_Tool::IsClosed(ed, fwd);
+        double a = 0, b = 0;
+        CoEdgeData cd{ed, BRep_Tool::CurveOnSurface(ed, fwd, a, b)};
+        if (cd.pcurve.IsNull())
+          throw Error("face " + std::to_string(i + 1) + ": edge " + std::to_string(ce.edge) +
+                      " has no curve in the face's parameter plane");
+        fd.coedges.push_back(ce);
+        fd.coedge_data.push_back(cd);
+        auto& ef = edges[ce.edge - 1].faces;
+        if (std::find(ef.begin(), ef.end(), static_cast<int>(i) + 1) == ef.end())
+          ef.push_back(static_cast<int>(i) + 1);
+      }
+    }
+    GProp_GProps props;
+    BRepGProp::SurfaceProperties(fd.face, props);
+    fd.area = props.Mass();
+    fd.centroid = to_vec(props.CentreOfMass());
+    fd.bbox = shape_bbox(fd.face);
+    if (!fd.solids.empty()) area += fd.area;
+  }
+  bbox = shape_bbox(part);
+}
+
+CadModel CadModel::read(const std::filesystem::path& path) {
+  silence_occt();
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw Error("cannot open '" + path.string() + "': no such file");
+  if (fs::is_directory(path, ec))
+    throw Error("'" + path.string() + "' is a directory, not a CAD file");
+  if (fs::file_size(path, ec) == 0) throw Error("'" + path.string() + "' is empty");
+  if (!std::ifstream(path).good()) throw Error("cannot open '" + path.string() + "' for reading");
+
+  auto impl = std::make_unique<Impl>();
+  Impl& m = *impl;
+  const std::string ext = lower(path.extension().string());
+  try {
+    TopoDS_Shape shape;
+    if (ext == ".step" || ext == ".stp") {
+      m.format = "STEP";
+      shape = read_step(path, m);
+    } else if (ext == ".iges" || ext == ".igs") {
+      m.format = "IGES";
+      shape = read_iges(path, m);
+    } else if (ext == ".brep" || ext == ".rle" || ext == ".brp") {
+      m.format = "BREP";
+      shape = read_brep(path, m);
+    } else {
+      throw Error("'" + path.string() + "': unknown CAD format '" + ext +
+                  "' (expected .step/.stp, .iges/.igs, .brep/.rle)");
+    }
+    if (shape.IsNull()) throw Error("'" + path.string() + "' holds no shape");
+
+    std::vector<TopoDS_Solid> solids;
+    for (TopExp_Explorer ex(shape, TopAbs_SOLID); ex.More(); ex.Next())
+      solids.push_back(TopoDS::Solid(ex.Current()));
+    if (solids.empty()) {
+      solids = sew_into_solids(shape, shape_bbox(shape), m);
+    } else {
+      int loose = 0;
+      for (TopExp_Explorer ex(shape, TopAbs_FACE, TopAbs_SOLID); ex.More(); ex.Next()) ++loose;
+      if (loose > 0)
+        m.warnings.push_back(std::to_string(loose) + " face(s) outside any solid ignored");
+    }
+    BRep_Builder builder;
+    TopoDS_Compound part;
+    builder.MakeCompound(part);
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+      TopoDS_Solid s = solids[i];
+      const int free = free_edge_count(s);
+      if (free > 0)
+        throw Error("solid " + std::to_string(i + 1) + " is not closed (" + std::to_string(free) +
+                    " free edges)");
+      // An inside-out solid (negative volume) is turned around so its faces point outward.
+      if (signed_volume(s) < 0) {
+        s.Reverse();
+        m.warnings.push_back("solid " + std::to_string(i + 1) + " was inside out; reversed");
+      }
+      builder.Add(part, s);
+    }
+    m.part = part;
+    m.build_tables();
+  } catch (const Standard_Failure& e) {
+    throw Error("OpenCASCADE failed on '" + path.string() + "': " + e.GetMessageString());
+  }
+  return CadModel(std::move(impl));
+}
+
+CadModel::CadModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+CadModel::CadModel(CadModel&&) noexcept = default;
+CadModel& CadModel::operator=(CadModel&&) noexcept = default;
+CadModel::~CadModel() = default;
+
+const std::string& CadModel::format() const {
+  return impl_->format;
+}
+const std::string& CadModel::file_unit() const {
+  return impl_->file_unit;
+}
+double CadModel::unit_scale() const {
+  return impl_->unit_scale;
+}
+const std::vector<std::string>& CadModel::warnings() const {
+  return impl_->warnings;
+}
+int CadModel::num_vertices() const {
+  return static_cast<int>(impl_->vertices.size());
+}
+int CadModel::num_edges() const {
+  return static_cast<int>(impl_->edges.size());
+}
+int CadModel::num_faces() const {
+  return static_cast<int>(impl_->faces.size());
+}
+int CadModel::num_solids() const {
+  return static_cast<int>(impl_->solids.size());
+}
+const std::vector<int>& CadModel::faces_of_solid(int s) const {
+  return impl_->solids.at(s - 1).faces;
+}
+double CadModel::solid_volume(int s) const {
+  return impl_->solids.at(s - 1).volume;
+}
+BBox3 CadModel::solid_bbox(int s) const {
+  return impl_->solids.at(s - 1).bbox;
+}
+double CadModel::volume() const {
+  return impl_->volume;
+}
+BBox3 CadModel::bbox() const {
+  return impl_->bbox;
+}
+double CadModel::area() const {
+  return impl_->area;
+}
+
+}  // namespace hexfem
