@@ -29,7 +29,11 @@ class Cursor {
   }
   std::string_view token() {
     skip_space();
-    if (pos_ >= data_.size()) fail("unexpected end of file (truncated mesh?)");
+    if (pos_ >= data_.size()) {
+      line_ = token_line_;  // name the last line that had content
+      fail("unexpected end of file (truncated mesh?)");
+    }
+    token_line_ = line_;
     const std::size_t start = pos_;
     while (pos_ < data_.size() && !std::isspace(static_cast<unsigned char>(data_[pos_]))) ++pos_;
     return std::string_view(data_).substr(start, pos_ - start);
@@ -92,6 +96,7 @@ class Cursor {
   std::string name_;
   std::size_t pos_ = 0;
   std::size_t line_ = 1;
+  std::size_t token_line_ = 1;
 };
 
 int nodes_of_msh_type(int type) {
