@@ -1,0 +1,85 @@
+#include "mesher/frame_field_3d.hpp"
+
+#include <boost/geometry.hpp>
+#include <boost/geometry/index/rtree.hpp>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+
+namespace bg = boost::geometry;
+namespace bgi = boost::geometry::index;
+using RPoint = bg::model::point<double, 3, bg::cs::cartesian>;
+using RValue = std::pair<RPoint, std::int32_t>;
+
+struct FrameField3D::Index {
+  bgi::rtree<RValue, bgi::rstar<16>> tree;
+};
+
+namespace {
+
+double dot(const Vec3& a, const Vec3& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+bool normalize(Vec3& a) {
+  const double n = std::sqrt(dot(a, a));
+  if (!(n > 1e-12)) return false;
+  for (double& x : a) x /= n;
+  return true;
+}
+
+}  // namespace
+
+FrameField3D::FrameField3D(const SurfaceMesh& surface) : index_(std::make_unique<Index>()) {
+  const std::size_t n = surface.mesh.nodes.size();
+  if (surface.frame.size() != n || surface.size.size() != n)
+    throw Error("surface mesh: " + std::to_string(n) + " nodes but " +
+                std::to_string(surface.frame.size()) + " frames and " +
+                std::to_string(surface.size.size()) + " sizes");
+  if (n == 0) throw Error("surface mesh has no nodes");
+  frames_.resize(n);
+  sizes_ = surface.size;
+  std::vector<RValue> values;
+  values.reserve(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!(sizes_[v] > 0) || !std::isfinite(sizes_[v]))
+      throw Error("surface mesh: node " + std::to_string(v) + " has size " +
+                  std::to_string(sizes_[v]));
+    Vec3 d1 = surface.frame[v][0], nn = surface.frame[v][2];
+    bool ok = normalize(nn);
+    const double t = dot(d1, nn);
+    for (int i = 0; i < 3; ++i) d1[i] -= t * nn[i];
+    ok = ok && normalize(d1);
+    if (!ok) throw Error("surface mesh: node " + std::to_string(v) + " has a degenerate frame");
+    const Vec3 d2{nn[1] * d1[2] - nn[2] * d1[1], nn[2] * d1[0] - nn[0] * d1[2],
+                  nn[0] * d1[1] - nn[1] * d1[0]};
+    frames_[v] = {d1, d2, nn};
+    const Vec3& p = surface.mesh.nodes[v];
+    values.emplace_back(RPoint(p[0], p[1], p[2]), static_cast<std::int32_t>(v));
+  }
+  // The packing constructor builds the same tree for the same input (deterministic queries).
+  index_->tree = bgi::rtree<RValue, bgi::rstar<16>>(values.begin(), values.end());
+}
+
+FrameField3D::~FrameField3D() = default;
+
+std::int32_t FrameField3D::nearest_vertex(const Vec3& p) const {
+  std::int32_t best = -1;
+  double best_d2 = 0;
+  // Ask for two so that an exact tie is broken by the lower index, not by the tree layout.
+  for (auto it = index_->tree.qbegin(bgi::nearest(RPoint(p[0], p[1], p[2]), 2));
+       it != index_->tree.qend(); ++it) {
+    const double d2 = bg::comparable_distance(it->first, RPoint(p[0], p[1], p[2]));
+    if (best < 0 || d2 < best_d2 || (d2 == best_d2 && it->second < best)) {
+      best = it->second;
+      best_d2 = d2;
+    }
+  }
+  return best;
+}
+
+}  // namespace hexfem

@@ -1,0 +1,38 @@
+// 3D frame and size fields (paper, "Cross fields"): the frame at any point of the volume is the
+// frame of the nearest surface vertex, and so is the size. Built once, queried millions of times.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "mesher/surface_mesh.hpp"
+
+namespace hexfem {
+
+using Frame = std::array<Vec3, 3>;  // orthonormal (d1, d2, d3)
+
+class FrameField3D {
+ public:
+  // Copies and orthonormalizes the surface frames (n kept, d1 projected onto the tangent plane,
+  // d2 = n x d1). Throws hexfem::Error when the per-node arrays do not match the nodes, a size is
+  // not positive or a frame is degenerate.
+  explicit FrameField3D(const SurfaceMesh& surface);
+  ~FrameField3D();
+  FrameField3D(const FrameField3D&) = delete;
+  FrameField3D& operator=(const FrameField3D&) = delete;
+
+  // The surface vertex nearest to p (Euclidean). Thread-safe.
+  std::int32_t nearest_vertex(const Vec3& p) const;
+  const Frame& vertex_frame(std::int32_t v) const { return frames_[v]; }
+  double vertex_size(std::int32_t v) const { return sizes_[v]; }
+
+ private:
+  struct Index;
+  std::vector<Frame> frames_;
+  std::vector<double> sizes_;
+  std::unique_ptr<Index> index_;
+};
+
+}  // namespace hexfem

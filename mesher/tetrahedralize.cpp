@@ -1,0 +1,277 @@
+#include "mesher/tetrahedralize.hpp"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <tetgen.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+
+namespace {
+
+using Tri = std::array<std::int32_t, 3>;
+
+Tri sorted_tri(std::int32_t a, std::int32_t b, std::int32_t c) {
+  Tri t{a, b, c};
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
+double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+         u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+std::string intersection_message(const SurfaceMesh& surface, const SolidLocator& locator) {
+  const auto pairs = locator.intersecting_triangles(3);
+  if (pairs.empty()) return "";
+  std::string msg = "the surface mesh intersects itself: ";
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (i) msg += "; ";
+    msg += describe_surface_triangle(surface, pairs[i][0]) + " crosses " +
+           describe_surface_triangle(surface, pairs[i][1]);
+  }
+  return msg;
+}
+
+// TetGen's output, copied out of the child process.
+struct TetgenResult {
+  std::string error;  // empty on success
+  std::vector<double> points;
+  std::vector<int> tets, neighbors, trifaces;
+};
+
+// Writes all of `n` bytes (the pipe may take them in pieces).
+bool write_all(int fd, const void* data, std::size_t n) {
+  const char* p = static_cast<const char*>(data);
+  while (n > 0) {
+    const ssize_t w = ::write(fd, p, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) return false;
+    p += w;
+    n -= static_cast<std::size_t>(w);
+  }
+  return true;
+}
+
+template <class T>
+bool write_array(int fd, const T* data, std::uint64_t count) {
+  return write_all(fd, &count, sizeof count) &&
+         (count == 0 || write_all(fd, data, count * sizeof(T)));
+}
+
+template <class T>
+bool read_array(const std::vector<char>& buf, std::size_t& at, std::vector<T>& v) {
+  std::uint64_t count = 0;
+  if (at + sizeof count > buf.size()) return false;
+  std::memcpy(&count, buf.data() + at, sizeof count);
+  at += sizeof count;
+  if (count > (buf.size() - at) / sizeof(T)) return false;
+  v.resize(count);
+  if (count) std::memcpy(v.data(), buf.data() + at, count * sizeof(T));
+  at += count * sizeof(T);
+  return true;
+}
+
+// Runs TetGen in a forked child. Debian's libtet 1.5.0 frees its memory twice when it reports an
+// error (terminatetetgen() frees, then the unwinding destructor frees again) and segfaults, so
+// an error inside TetGen cannot be caught in-process; the child's crash becomes an Error here.
+TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches) {
+  TetgenResult r;
+  int fd[2];
+  if (::pipe(fd) != 0) throw Error("TetGen: cannot create a pipe");
+  std::fflush(stdout);
+  const pid_t pid = ::fork();
+  if (pid < 0) throw Error("TetGen: cannot fork");
+  if (pid == 0) {
+    ::close(fd[0]);
+    const int devnull = ::open("/dev/null", O_WRONLY);
+    if (devnull >= 0) ::dup2(devnull, STDOUT_FILENO);  // TetGen prints even with -Q on errors
+    int code = 0;
+    tetgenio out;
+    try {
+      tetgenbehavior b;
+      std::vector<char> sw(switches, switches + std::strlen(switches) + 1);
+      if (!b.parse_commandline(sw.data())) ::_exit(90);
+      ::tetrahedralize(&b, &in, &out);
+    } catch (int c) {
+      code = c;
+    }
+    if (code != 0) ::_exit(100 + code);
+    const bool ok = write_array(fd[1], out.pointlist, 3ull * out.numberofpoints) &&
+                    write_array(fd[1], out.tetrahedronlist, 4ull * out.numberoftetrahedra) &&
+                    write_array(fd[1], out.neighborlist, 4ull * out.numberoftetrahedra) &&
+                    write_array(fd[1], out.trifacelist, 3ull * out.numberoftrifaces);
+    ::close(fd[1]);
+    ::_exit(ok ? 0 : 91);
+  }
+  ::close(fd[1]);
+  std::vector<char> buf;
+  char chunk[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd[0], chunk, sizeof chunk);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    buf.insert(buf.end(), chunk, chunk + n);
+  }
+  ::close(fd[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFSIGNALED(status)) {
+    r.error = "it crashed with signal " + std::to_string(WTERMSIG(status));
+  } else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.error = code == 103   ? "it found intersecting facets"
+              : code == 101 ? "out of memory"
+              : code > 100  ? "error code " + std::to_string(code - 100)
+                            : "exit status " + std::to_string(code);
+  } else {
+    std::size_t at = 0;
+    if (!read_array(buf, at, r.points) || !read_array(buf, at, r.tets) ||
+        !read_array(buf, at, r.neighbors) || !read_array(buf, at, r.trifaces))
+      r.error = "its output was truncated";
+  }
+  return r;
+}
+
+}  // namespace
+
+TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& interior_points,
+                       const SolidLocator& locator) {
+  const MixedMesh& sm = surface.mesh;
+  const std::size_t ns = sm.nodes.size(), ni = interior_points.size(), nt = sm.num_bfaces();
+  tetgenio in;
+  // tetgenio frees its arrays with delete[]: allocate them with new[].
+  in.firstnumber = 0;
+  in.numberofpoints = static_cast<int>(ns + ni);
+  in.pointlist = new REAL[3 * (ns + ni)];
+  for (std::size_t i = 0; i < ns + ni; ++i) {
+    const Vec3& p = i < ns ? sm.nodes[i] : interior_points[i - ns];
+    for (int a = 0; a < 3; ++a) in.pointlist[3 * i + a] = p[a];
+  }
+  in.numberoffacets = static_cast<int>(nt);
+  in.facetlist = new tetgenio::facet[nt];
+  in.facetmarkerlist = new int[nt];
+  for (std::size_t t = 0; t < nt; ++t) {
+    tetgenio::facet& f = in.facetlist[t];
+    tetgenio::init(&f);
+    f.numberofpolygons = 1;
+    f.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&f.polygonlist[0]);
+    f.polygonlist[0].numberofvertices = 3;
+    f.polygonlist[0].vertexlist = new int[3];
+    for (int i = 0; i < 3; ++i) f.polygonlist[0].vertexlist[i] = sm.bface(t)[i];
+    in.facetmarkerlist[t] = static_cast<int>(t) + 1;
+  }
+  // p: PLC; Y: keep the boundary mesh; n: neighbours; z: 0-based; Q: quiet; O0: no flips or
+  // smoothing after the Delaunay construction (they would break the lattice's cubes).
+  const TetgenResult out = run_tetgen_isolated(in, "pYnzQO0");
+  if (!out.error.empty()) {
+    const std::string why = intersection_message(surface, locator);
+    throw Error("TetGen failed (" + out.error + ")" +
+                (why.empty() ? std::string(" on the surface mesh") : ": " + why));
+  }
+  TetMesh mesh;
+  const std::size_t np = out.points.size() / 3;
+  if (np < ns + ni) throw Error("TetGen dropped input points");
+  mesh.steiner_points = np - ns - ni;
+  mesh.nodes.resize(np);
+  for (std::size_t i = 0; i < np; ++i)
+    mesh.nodes[i] = {out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]};
+  for (std::size_t i = 0; i < ns + ni; ++i)
+    mesh.nodes[i] = i < ns ? sm.nodes[i] : interior_points[i - ns];
+
+  // The boundary must be the input triangles, each exactly once.
+  std::vector<std::pair<Tri, std::int32_t>> input(nt);
+  for (std::size_t t = 0; t < nt; ++t)
+    input[t] = {sorted_tri(sm.bface(t)[0], sm.bface(t)[1], sm.bface(t)[2]),
+                static_cast<std::int32_t>(t)};
+  std::sort(input.begin(), input.end());
+  std::vector<Tri> output(out.trifaces.size() / 3);
+  for (std::size_t f = 0; f < output.size(); ++f)
+    output[f] = sorted_tri(out.trifaces[3 * f], out.trifaces[3 * f + 1], out.trifaces[3 * f + 2]);
+  std::sort(output.begin(), output.end());
+  {
+    std::size_t i = 0, j = 0;
+    while (i < input.size() || j < output.size()) {
+      if (j == output.size() || (i < input.size() && input[i].first < output[j])) {
+        throw Error("TetGen did not keep surface " +
+                    describe_surface_triangle(surface, input[i].second) +
+                    (output.size() > nt ? " (it split the boundary)" : ""));
+      }
+      if (i == input.size() || output[j] < input[i].first)
+        throw Error("TetGen created boundary face (" + std::to_string(output[j][0]) + ", " +
+                    std::to_string(output[j][1]) + ", " + std::to_string(output[j][2]) +
+                    ") that is not a surface triangle");
+      ++i;
+      ++j;
+    }
+  }
+
+  // Tets, positively oriented; then regions: flood fill across faces that are not surface
+  // triangles, each region classified by its first tet's centroid (drops inner voids).
+  const std::size_t ntet = out.tets.size() / 4;
+  std::vector<std::array<std::int32_t, 4>> tets(ntet);
+  for (std::size_t t = 0; t < ntet; ++t) {
+    auto& T = tets[t];
+    for (int i = 0; i < 4; ++i) T[i] = out.tets[4 * t + i];
+    if (orient(mesh.nodes[T[0]], mesh.nodes[T[1]], mesh.nodes[T[2]], mesh.nodes[T[3]]) < 0)
+      std::swap(T[2], T[3]);
+  }
+  std::vector<std::int32_t> region(ntet, -1);
+  std::vector<int> region_solid;
+  std::vector<std::size_t> stack;
+  for (std::size_t seed = 0; seed < ntet; ++seed) {
+    if (region[seed] >= 0) continue;
+    const auto r = static_cast<std::int32_t>(region_solid.size());
+    Vec3 c{0, 0, 0};
+    for (int i = 0; i < 4; ++i)
+      for (int a = 0; a < 3; ++a) c[a] += 0.25 * mesh.nodes[tets[seed][i]][a];
+    region_solid.push_back(locator.locate(c));
+    region[seed] = r;
+    stack.assign(1, seed);
+    while (!stack.empty()) {
+      const std::size_t t = stack.back();
+      stack.pop_back();
+      for (int i = 0; i < 4; ++i) {
+        const int nb = out.neighbors[4 * t + i];
+        if (nb < 0 || region[nb] >= 0) continue;
+        // The face shared with the neighbour: the three vertices both tets have.
+        std::int32_t fv[4], n = 0;
+        for (int a = 0; a < 4; ++a)
+          for (int c = 0; c < 4; ++c)
+            if (tets[t][a] == tets[nb][c]) fv[n++] = tets[t][a];
+        if (n != 3) continue;
+        const Tri face = sorted_tri(fv[0], fv[1], fv[2]);
+        if (std::binary_search(output.begin(), output.end(), face)) continue;
+        region[nb] = r;
+        stack.push_back(static_cast<std::size_t>(nb));
+      }
+    }
+  }
+  for (std::size_t t = 0; t < ntet; ++t) {
+    const int s = region_solid[region[t]];
+    if (s == 0) {
+      ++mesh.dropped_tets;
+      continue;
+    }
+    mesh.tets.push_back(tets[t]);
+    mesh.tet_solid.push_back(s);
+  }
+  return mesh;
+}
+
+}  // namespace hexfem

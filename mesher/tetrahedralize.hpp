@@ -1,0 +1,30 @@
+// Tetrahedralization of the surface triangles plus the interior points with TetGen (libtet):
+// every surface triangle is kept as it is (no Steiner point on the boundary, "-Y"), no quality
+// refinement (no "-q"), and each tet is assigned to the solid that contains it.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "mesher/solid_locator.hpp"
+#include "mesher/surface_mesh.hpp"
+
+namespace hexfem {
+
+struct TetMesh {
+  // Surface nodes first (same indices as the SurfaceMesh), then the interior points in the order
+  // given, then any Steiner point TetGen had to add inside the volume to recover the boundary.
+  std::vector<Vec3> nodes;
+  std::vector<std::array<std::int32_t, 4>> tets;  // positively oriented (Gmsh Tet4)
+  std::vector<std::int32_t> tet_solid;
+  std::size_t steiner_points = 0;
+  std::size_t dropped_tets = 0;  // TetGen tets outside every solid (inner voids), removed
+};
+
+// Throws hexfem::Error when TetGen fails (naming the intersecting surface triangles and their
+// CAD faces when the surface self-intersects) or when its boundary differs from the input.
+TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& interior_points,
+                       const SolidLocator& locator);
+
+}  // namespace hexfem

@@ -1,0 +1,35 @@
+// 3D frontal point insertion (paper, "Volume meshing: the 3D point insertion algorithm"):
+// every surface vertex starts in a FIFO queue; each popped point proposes six neighbours at
+// +-d*d_i along its frame (d the mean of the sizes at parent and candidate); a candidate is kept
+// when it lies inside the solid, not within k*h of the boundary, and no point lies within k*h of
+// it in the L-infinity distance oriented by its frame (eq. 7).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "mesher/frame_field_3d.hpp"
+#include "mesher/solid_locator.hpp"
+#include "mesher/surface_mesh.hpp"
+
+namespace hexfem {
+
+struct VolumePointsOptions {
+  double k = 0.7;                // exclusion radius factor (paper: 0.7), in (0, 1)
+  bool random = false;           // random points at the frontal density instead (for the study)
+  std::uint64_t seed = 1;        // random mode only
+  std::size_t random_count = 0;  // random mode: points wanted (0: as many as the frontal run)
+};
+
+struct VolumePoints {
+  std::vector<Vec3> points;         // interior points, in insertion order
+  std::vector<std::int32_t> solid;  // solid id of each point
+  std::size_t candidates = 0;       // candidates examined
+  std::size_t frontal_count = 0;    // random mode: the frontal run's count it aimed at
+};
+
+VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D& field,
+                                  const SolidLocator& locator,
+                                  const VolumePointsOptions& options = {});
+
+}  // namespace hexfem

@@ -1,0 +1,179 @@
+// Stages 1-3 of the volume mesher on surfaces with known answers: frame field, frontal points,
+// TetGen.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "mesher/frame_field_3d.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/solid_locator.hpp"
+#include "mesher/tetrahedralize.hpp"
+#include "mesher/volume_points.hpp"
+#include "tests/volume/synthetic_surfaces.hpp"
+
+namespace hexfem {
+namespace {
+
+double tet_volume(const TetMesh& m, std::size_t t) {
+  const auto& T = m.tets[t];
+  const Vec3 &a = m.nodes[T[0]], &b = m.nodes[T[1]], &c = m.nodes[T[2]], &d = m.nodes[T[3]];
+  const Vec3 u = synthetic::sub3(b, a), v = synthetic::sub3(c, a), w = synthetic::sub3(d, a);
+  return synthetic::dot3(u, synthetic::cross3(v, w)) / 6.0;
+}
+
+TEST(SyntheticSurfaces, BoxAndCylinderAreClosed) {
+  // SolidLocator checks closedness and throws otherwise.
+  EXPECT_NO_THROW(SolidLocator(synthetic::box_surface({2, 1, 1}, {8, 4, 4})));
+  EXPECT_NO_THROW(SolidLocator(synthetic::cylinder_surface(1.0, 2.0, 0.2)));
+}
+
+TEST(SolidLocator, InsideAndDistanceOnABox) {
+  const SurfaceMesh s = synthetic::box_surface({2, 1, 1}, {8, 4, 4});
+  const SolidLocator loc(s);
+  EXPECT_TRUE(loc.inside(1, {1.0, 0.5, 0.5}));
+  EXPECT_TRUE(loc.inside(1, {0.25, 0.25, 0.25}));  // on grid diagonals' planes: re-shot rays
+  EXPECT_FALSE(loc.inside(1, {2.5, 0.5, 0.5}));
+  EXPECT_FALSE(loc.inside(1, {1.0, -0.1, 0.5}));
+  EXPECT_EQ(loc.locate({1.0, 0.5, 0.5}), 1);
+  EXPECT_EQ(loc.locate({3.0, 0.5, 0.5}), 0);
+  EXPECT_TRUE(loc.near_boundary(1, {1.0, 0.5, 0.1}, 0.11));
+  EXPECT_FALSE(loc.near_boundary(1, {1.0, 0.5, 0.1}, 0.09));
+  EXPECT_TRUE(loc.segment_hits_boundary(1, {1.0, 0.5, 0.5}, {1.0, 0.5, 1.5}));
+  EXPECT_FALSE(loc.segment_hits_boundary(1, {1.0, 0.5, 0.5}, {1.0, 0.5, 0.9}));
+}
+
+TEST(SolidLocator, OpenSurfaceIsAnError) {
+  SurfaceMesh s = synthetic::box_surface({1, 1, 1}, {2, 2, 2});
+  s.mesh.bface_nodes.resize(s.mesh.bface_nodes.size() - 4);
+  s.mesh.bface_cad_face.pop_back();
+  s.mesh.bface_physical.pop_back();
+  EXPECT_THROW(SolidLocator{s}, Error);
+}
+
+TEST(FrameField3D, NearestVertexFrameAndSize) {
+  const SurfaceMesh s = synthetic::cylinder_surface(1.0, 2.0, 0.25);
+  const FrameField3D f(s);
+  // Near the lateral surface at angle 0, mid-height: the frame's normal is radial (+x).
+  const std::int32_t v = f.nearest_vertex({0.9, 0.0, 1.0});
+  EXPECT_NEAR(s.mesh.nodes[v][0], 1.0, 1e-12);
+  EXPECT_NEAR(f.vertex_frame(v)[2][0], 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(f.vertex_size(v), 0.25);
+  SurfaceMesh bad = s;
+  bad.size[3] = 0;
+  EXPECT_THROW(FrameField3D{bad}, Error);
+}
+
+// On a box whose surface nodes are a lattice of step h with frames = axes, the frontal insertion
+// must fill exactly the interior lattice points.
+TEST(VolumePoints, FrontalFillsTheBoxLattice) {
+  const int n[3] = {6, 5, 4};
+  const SurfaceMesh s = synthetic::box_surface({1.5, 1.25, 1.0}, {6, 5, 4});
+  const FrameField3D field(s);
+  const SolidLocator loc(s);
+  const VolumePoints vp = insert_volume_points(s, field, loc);
+  ASSERT_EQ(vp.points.size(), static_cast<std::size_t>((n[0] - 1) * (n[1] - 1) * (n[2] - 1)));
+  std::set<std::array<long, 3>> seen;
+  for (const Vec3& p : vp.points) {
+    std::array<long, 3> ijk;
+    for (int a = 0; a < 3; ++a) {
+      const double x = p[a] / 0.25;
+      ijk[a] = std::lround(x);
+      EXPECT_NEAR(x, ijk[a], 1e-9);
+      EXPECT_GT(ijk[a], 0);
+      EXPECT_LT(ijk[a], n[a]);
+    }
+    seen.insert(ijk);
+  }
+  EXPECT_EQ(seen.size(), vp.points.size());
+  for (int sid : vp.solid) EXPECT_EQ(sid, 1);
+}
+
+TEST(VolumePoints, RandomModeMatchesTheFrontalCountAndStaysInside) {
+  const SurfaceMesh s = synthetic::cylinder_surface(1.0, 1.0, 0.2);
+  const FrameField3D field(s);
+  const SolidLocator loc(s);
+  VolumePointsOptions o;
+  o.random = true;
+  const VolumePoints vp = insert_volume_points(s, field, loc, o);
+  EXPECT_GT(vp.frontal_count, 0u);
+  EXPECT_LE(vp.points.size(), vp.frontal_count);
+  EXPECT_GT(vp.points.size(), vp.frontal_count / 2);
+  for (const Vec3& p : vp.points) {
+    EXPECT_LT(std::hypot(p[0], p[1]), 1.0 - 0.7 * 0.2 + 1e-9);
+    EXPECT_GT(p[2], 0.7 * 0.2 - 1e-9);
+    EXPECT_LT(p[2], 1.0 - 0.7 * 0.2 + 1e-9);
+  }
+  o.k = 1.5;
+  EXPECT_THROW(insert_volume_points(s, field, loc, o), Error);
+}
+
+TEST(Tetrahedralize, KeepsTheSurfaceAndFillsTheVolume) {
+  const SurfaceMesh s = synthetic::cylinder_surface(1.0, 1.5, 0.25);
+  const FrameField3D field(s);
+  const SolidLocator loc(s);
+  const VolumePoints vp = insert_volume_points(s, field, loc);
+  const TetMesh tm = tetrahedralize(s, vp.points, loc);
+  EXPECT_EQ(tm.nodes.size(), s.mesh.nodes.size() + vp.points.size() + tm.steiner_points);
+  double vol = 0;
+  for (std::size_t t = 0; t < tm.tets.size(); ++t) {
+    const double v = tet_volume(tm, t);
+    EXPECT_GT(v, 0);
+    vol += v;
+  }
+  // Volume of the polyhedron bounded by the surface triangles (divergence theorem).
+  double poly = 0;
+  for (std::size_t t = 0; t < s.mesh.num_bfaces(); ++t) {
+    const auto* f = s.mesh.bface(t);
+    poly += synthetic::dot3(s.mesh.nodes[f[0]],
+                            synthetic::cross3(s.mesh.nodes[f[1]], s.mesh.nodes[f[2]])) /
+            6.0;
+  }
+  EXPECT_NEAR(vol, poly, 1e-9 * poly);
+  // Every surface triangle is a face of exactly one tet.
+  std::set<std::array<std::int32_t, 3>> faces;
+  for (const auto& T : tm.tets)
+    for (int i = 0; i < 4; ++i) {
+      std::array<std::int32_t, 3> f{T[(i + 1) % 4], T[(i + 2) % 4], T[(i + 3) % 4]};
+      std::sort(f.begin(), f.end());
+      faces.insert(f);
+    }
+  for (std::size_t t = 0; t < s.mesh.num_bfaces(); ++t) {
+    std::array<std::int32_t, 3> f{s.mesh.bface(t)[0], s.mesh.bface(t)[1], s.mesh.bface(t)[2]};
+    std::sort(f.begin(), f.end());
+    EXPECT_TRUE(faces.count(f));
+  }
+}
+
+TEST(Tetrahedralize, SelfIntersectingSurfaceNamesTheFaces) {
+  // Two overlapping boxes in one "solid": their surfaces cross.
+  SurfaceMesh a = synthetic::box_surface({1, 1, 1}, {2, 2, 2});
+  const SurfaceMesh b = synthetic::box_surface({1, 1, 1}, {2, 2, 2});
+  const auto offset = static_cast<std::int32_t>(a.mesh.nodes.size());
+  for (std::size_t v = 0; v < b.mesh.nodes.size(); ++v) {
+    Vec3 p = b.mesh.nodes[v];
+    p[0] += 0.5;
+    p[1] += 0.3;
+    p[2] += 0.2;
+    a.mesh.nodes.push_back(p);
+    a.frame.push_back(b.frame[v]);
+    a.size.push_back(b.size[v]);
+    a.on_edge.push_back(b.on_edge[v]);
+  }
+  for (std::size_t t = 0; t < b.mesh.num_bfaces(); ++t)
+    a.mesh.add_bface(b.mesh.bface(t)[0] + offset, b.mesh.bface(t)[1] + offset,
+                     b.mesh.bface(t)[2] + offset, -1, b.mesh.bface_cad_face[t] + 6);
+  a.faces_of_solid = {{}, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12}};
+  const SolidLocator loc(a);
+  try {
+    tetrahedralize(a, {}, loc);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("intersects itself"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("CAD face"), std::string::npos) << msg;
+  }
+}
+
+}  // namespace
+}  // namespace hexfem
