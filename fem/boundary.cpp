@@ -1,0 +1,230 @@
+#include "fem/boundary.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+namespace {
+
+std::string trim(const std::string& s) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return s.substr(b, e - b);
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> parts;
+  std::string cur;
+  for (char c : s) {
+    if (c == sep) {
+      parts.push_back(trim(cur));
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  parts.push_back(trim(cur));
+  return parts;
+}
+
+bool parse_double(const std::string& s, double& v) {
+  if (s.empty()) return false;
+  std::size_t used = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (...) {
+    return false;
+  }
+  return used == s.size() && std::isfinite(v);
+}
+
+bool parse_int(const std::string& s, int& v) {
+  double d;
+  if (!parse_double(s, d) || d != static_cast<int>(d)) return false;
+  v = static_cast<int>(d);
+  return true;
+}
+
+[[noreturn]] void bad(const std::string& spec, const std::string& why) {
+  throw Error("--fix '" + spec + "': " + why);
+}
+
+std::vector<std::uint8_t> used_nodes(const MixedMesh& mesh) {
+  std::vector<std::uint8_t> used(mesh.nodes.size(), 0);
+  for (std::int32_t v : mesh.cell_nodes)
+    if (v >= 0) used[v] = 1;
+  return used;
+}
+
+// Nodes of the boundary faces for which `take(face)` holds.
+template <class Pred>
+std::vector<std::int32_t> face_nodes(const MixedMesh& mesh, Pred take) {
+  std::vector<std::int32_t> nodes;
+  for (std::size_t f = 0; f < mesh.num_bfaces(); ++f)
+    if (take(f))
+      for (int q = 0; q < 4; ++q)
+        if (mesh.bface(f)[q] >= 0) nodes.push_back(mesh.bface(f)[q]);
+  return nodes;
+}
+
+std::string id_list(const std::set<int>& ids) {
+  std::ostringstream s;
+  int shown = 0;
+  for (int id : ids) {
+    if (shown++ == 20) {
+      s << " ...";
+      break;
+    }
+    s << (shown > 1 ? "," : "") << id;
+  }
+  return ids.empty() ? "none" : s.str();
+}
+
+}  // namespace
+
+NodeSelection select_fixed_nodes(const MixedMesh& mesh, const std::string& spec_in) {
+  const std::string spec = trim(spec_in);
+  NodeSelection sel;
+  std::string selector = spec;
+  if (const auto at = spec.rfind('@'); at != std::string::npos) {
+    selector = trim(spec.substr(0, at));
+    const std::string comps = trim(spec.substr(at + 1));
+    if (comps.empty()) bad(spec, "no component after '@' (use e.g. @z or @xy)");
+    for (int a = 0; a < 3; ++a) sel.component[a] = false;
+    for (char c : comps) {
+      if (c < 'x' || c > 'z') bad(spec, std::string("unknown component '") + c + "' (x, y or z)");
+      sel.component[c - 'x'] = true;
+    }
+  }
+  if (selector.empty()) bad(spec, "empty selector");
+
+  std::vector<std::int32_t> nodes;
+  if (selector.rfind("face:", 0) == 0) {
+    std::set<int> wanted;
+    for (const std::string& tok : split(selector.substr(5), ',')) {
+      int id;
+      if (!parse_int(tok, id)) bad(spec, "'" + tok + "' is not a CAD-face id");
+      wanted.insert(id);
+    }
+    nodes = face_nodes(mesh, [&](std::size_t f) { return wanted.count(mesh.bface_cad_face[f]); });
+    if (nodes.empty()) {
+      const std::set<int> present(mesh.bface_cad_face.begin(), mesh.bface_cad_face.end());
+      bad(spec,
+          "no boundary face has this CAD-face id (ids in the mesh: " + id_list(present) + ")");
+    }
+  } else if (selector.rfind("group:", 0) == 0) {
+    const std::string name = trim(selector.substr(6));
+    std::set<int> tags;
+    int tag;
+    if (parse_int(name, tag)) tags.insert(tag);
+    for (const auto& [key, value] : mesh.physical_names)
+      if (key.first == 2 && value == name) tags.insert(key.second);
+    nodes = face_nodes(mesh, [&](std::size_t f) { return tags.count(mesh.bface_physical[f]); });
+    if (nodes.empty()) {
+      const std::set<int> present(mesh.bface_physical.begin(), mesh.bface_physical.end());
+      bad(spec, "no boundary face is in this physical group (surface tags in the mesh: " +
+                    id_list(present) + ")");
+    }
+  } else {
+    struct Condition {
+      int axis;
+      std::string op;
+      double value;
+    };
+    std::vector<Condition> conds;
+    for (const std::string& c : split(selector, '&')) {
+      if (c.size() < 3 || c[0] < 'x' || c[0] > 'z')
+        bad(spec, "cannot parse '" + c + "' (expected face:IDS, group:NAME or e.g. x<0.001)");
+      Condition cond{c[0] - 'x', "", 0};
+      std::size_t p = 1;
+      while (p < c.size() && std::isspace(static_cast<unsigned char>(c[p]))) ++p;
+      while (p < c.size() && (c[p] == '<' || c[p] == '>' || c[p] == '=')) cond.op += c[p++];
+      if (cond.op != "<" && cond.op != "<=" && cond.op != ">" && cond.op != ">=")
+        bad(spec, "'" + c + "': operator must be <, <=, > or >=");
+      if (!parse_double(trim(c.substr(p)), cond.value))
+        bad(spec, "'" + c + "': '" + trim(c.substr(p)) + "' is not a number");
+      conds.push_back(cond);
+    }
+    const std::vector<std::uint8_t> used = used_nodes(mesh);
+    for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+      if (!used[i]) continue;
+      bool ok = true;
+      for (const Condition& c : conds) {
+        const double x = mesh.nodes[i][c.axis];
+        ok = ok && (c.op == "<"    ? x < c.value
+                    : c.op == "<=" ? x <= c.value
+                    : c.op == ">"  ? x > c.value
+                                   : x >= c.value);
+      }
+      if (ok) nodes.push_back(static_cast<std::int32_t>(i));
+    }
+    if (nodes.empty()) {
+      std::ostringstream range;
+      for (int a = 0; a < 3; ++a) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (std::size_t i = 0; i < mesh.nodes.size(); ++i)
+          if (used[i]) {
+            lo = std::min(lo, mesh.nodes[i][a]);
+            hi = std::max(hi, mesh.nodes[i][a]);
+          }
+        range << (a ? ", " : "") << char('x' + a) << " in [" << lo << ", " << hi << "]";
+      }
+      bad(spec, "selects no node (mesh nodes: " + range.str() + ")");
+    }
+  }
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  sel.nodes = std::move(nodes);
+  return sel;
+}
+
+std::vector<std::uint8_t> select_fixed_dofs(const MixedMesh& mesh,
+                                            const std::vector<std::string>& specs) {
+  std::vector<std::uint8_t> fixed(3 * mesh.nodes.size(), 0);
+  for (const std::string& spec : specs) {
+    const NodeSelection sel = select_fixed_nodes(mesh, spec);
+    for (std::int32_t v : sel.nodes)
+      for (int a = 0; a < 3; ++a)
+        if (sel.component[a]) fixed[3 * v + a] = 1;
+  }
+  return fixed;
+}
+
+DofMap number_free_dofs(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
+                        const std::vector<std::int32_t>& node_order) {
+  const std::size_t n = mesh.nodes.size();
+  if (fixed.size() != 3 * n) throw Error("number_free_dofs: mask size does not match the mesh");
+  if (!node_order.empty() && node_order.size() != n)
+    throw Error("number_free_dofs: node order size does not match the mesh");
+  const std::vector<std::uint8_t> used = used_nodes(mesh);
+  DofMap map;
+  map.dof.assign(3 * n, -1);
+  map.node_rank.resize(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    const std::int32_t v = node_order.empty() ? static_cast<std::int32_t>(r) : node_order[r];
+    map.node_rank[v] = static_cast<std::int32_t>(r);
+    if (!used[v]) continue;
+    for (int a = 0; a < 3; ++a) {
+      if (fixed[3 * v + a])
+        ++map.num_fixed;
+      else
+        map.dof[3 * v + a] = map.num_free++;
+    }
+  }
+  return map;
+}
+
+Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduced) {
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(map.dof.size()));
+  for (std::size_t i = 0; i < map.dof.size(); ++i)
+    if (map.dof[i] >= 0) full[static_cast<Eigen::Index>(i)] = reduced[map.dof[i]];
+  return full;
+}
+
+}  // namespace hexfem

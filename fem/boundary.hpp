@@ -1,0 +1,48 @@
+// Dirichlet conditions: selecting the fixed DOFs from text specs, and eliminating them (the
+// free DOFs are numbered, the fixed ones get no equation: no penalty, no spurious modes).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mesher/mesh/mixed_mesh.hpp"
+
+namespace hexfem {
+
+// One --fix spec: `selector[@components]`.
+//   selector  face:3,7        nodes of the boundary faces with these CAD-face ids
+//             group:NAME|TAG  nodes of the boundary faces in this physical group (name or tag)
+//             x<0.001         nodes whose coordinate satisfies every condition of a
+//             z<1e-3&x>9.999  '&'-joined list; coordinate x|y|z, operator < <= > >=, in the
+//                             mesh's own units (as in the file, before any --units scaling)
+//   components  which displacement components to fix, e.g. @z or @xy; default all three.
+// Only nodes used by cells are selected. Returns the selected nodes (sorted) and components.
+struct NodeSelection {
+  std::vector<std::int32_t> nodes;
+  bool component[3] = {true, true, true};
+};
+NodeSelection select_fixed_nodes(const MixedMesh& mesh, const std::string& spec);
+
+// Per-DOF mask (3*i+a for node i, component a) of the union of all specs. Throws
+// hexfem::Error when a spec cannot be parsed or selects no node.
+std::vector<std::uint8_t> select_fixed_dofs(const MixedMesh& mesh,
+                                            const std::vector<std::string>& specs);
+
+// Equation numbers of the free DOFs: dof[3*i+a] = equation, or -1 when the DOF is fixed or its
+// node belongs to no cell. Equations follow `node_order` (a permutation of the nodes; empty
+// means 0..n-1), so a fill-reducing order of the nodes becomes the order of the matrix.
+struct DofMap {
+  std::vector<std::int32_t> dof;
+  std::vector<std::int32_t> node_rank;  // position of each node in the order
+  std::int32_t num_free = 0;
+  std::int32_t num_fixed = 0;  // fixed DOFs of nodes that belong to cells
+};
+DofMap number_free_dofs(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
+                        const std::vector<std::int32_t>& node_order = {});
+
+// Full nodal vector (3 * nodes, zeros at eliminated DOFs) from a vector of free DOFs.
+Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduced);
+
+}  // namespace hexfem

@@ -1,0 +1,183 @@
+#include "fem/ccx_reference.hpp"
+
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "mesher/mesh/atomic_file.hpp"
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+namespace {
+
+void write_elements(std::ostream& out, const MixedMesh& mesh, CellKind kind, const char* type) {
+  bool header = false;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+    if (mesh.cell_kind[c] != kind) continue;
+    if (!header) out << "*ELEMENT, TYPE=" << type << ", ELSET=EALL\n";
+    header = true;
+    const std::int32_t* v = mesh.cell(c);
+    out << c + 1;
+    if (kind == CellKind::Pyramid5) {
+      for (int i = 0; i < 8; ++i) out << ", " << v[i < 4 ? i : 4] + 1;
+    } else {
+      for (int i = 0; i < num_nodes(kind); ++i) out << ", " << v[i] + 1;
+    }
+    out << '\n';
+  }
+}
+
+bool numbers(const std::string& line, std::vector<double>& v) {
+  std::istringstream s(line);
+  v.clear();
+  std::string tok;
+  while (s >> tok) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(tok, &used));
+      if (used != tok.size()) return false;
+    } catch (...) {
+      return false;
+    }
+  }
+  return !v.empty();
+}
+
+std::string tail(const std::filesystem::path& file, std::size_t lines) {
+  std::ifstream in(file);
+  std::vector<std::string> all;
+  for (std::string l; std::getline(in, l);) all.push_back(l);
+  std::string out;
+  for (std::size_t i = all.size() > lines ? all.size() - lines : 0; i < all.size(); ++i)
+    out += (out.empty() ? "" : " | ") + all[i];
+  return out;
+}
+
+}  // namespace
+
+void write_ccx_frequency_deck(std::ostream& out, const MixedMesh& mesh,
+                              const std::vector<std::uint8_t>& fixed, const Material& mat,
+                              int modes, double length_scale) {
+  char buf[160];
+  out << "*HEADING\nhexfem: modal reference deck (SI units)\n*NODE, NSET=NALL\n";
+  for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+    const Vec3& x = mesh.nodes[i];
+    std::snprintf(buf, sizeof buf, "%zu, %.17g, %.17g, %.17g\n", i + 1, x[0] * length_scale,
+                  x[1] * length_scale, x[2] * length_scale);
+    out << buf;
+  }
+  write_elements(out, mesh, CellKind::Hex8, "C3D8");
+  write_elements(out, mesh, CellKind::Pyramid5, "C3D8");
+  write_elements(out, mesh, CellKind::Wedge6, "C3D6");
+  write_elements(out, mesh, CellKind::Tet4, "C3D4");
+  bool any = false;
+  for (std::size_t i = 0; i < fixed.size(); ++i)
+    if (fixed[i]) {
+      if (!any) out << "*BOUNDARY\n";
+      any = true;
+      out << i / 3 + 1 << ", " << i % 3 + 1 << ", " << i % 3 + 1 << '\n';
+    }
+  std::snprintf(buf, sizeof buf, "%.17g, %.17g\n", mat.E, mat.nu);
+  out << "*MATERIAL, NAME=MAT\n*ELASTIC\n" << buf;
+  std::snprintf(buf, sizeof buf, "%.17g\n", mat.rho);
+  out << "*DENSITY\n" << buf << "*SOLID SECTION, ELSET=EALL, MATERIAL=MAT\n";
+  out << "*STEP\n*FREQUENCY\n" << modes << "\n*END STEP\n";
+}
+
+CcxModalOutput parse_ccx_dat(std::istream& dat) {
+  CcxModalOutput out;
+  enum { kNone, kEigen, kMass } block = kNone;
+  bool data = false;
+  std::vector<double> v;
+  for (std::string line; std::getline(dat, line);) {
+    if (line.find("E I G E N V A L U E   O U T P U T") != std::string::npos) {
+      block = kEigen;
+      data = false;
+      continue;
+    }
+    if (line.find("E F F E C T I V E   M O D A L   M A S S") != std::string::npos) {
+      block = kMass;
+      data = false;
+      continue;
+    }
+    if (block == kNone) continue;
+    if (block == kMass && line.find("TOTAL MASS") != std::string::npos) {
+      // "TOTAL MASS      value" (ccx repeats it per direction; all equal).
+      std::vector<double> t;
+      std::istringstream s(line.substr(line.find("TOTAL MASS") + 10));
+      double m;
+      while (s >> m) t.push_back(m);
+      if (!t.empty()) out.total_mass = t.front();
+      block = kNone;
+      continue;
+    }
+    if (numbers(line, v)) {
+      data = true;
+      if (block == kEigen && v.size() >= 4 && v[0] == static_cast<int>(v[0])) {
+        out.eigenvalues.push_back(v[1]);
+        out.frequencies.push_back(std::copysign(std::sqrt(std::abs(v[1])), v[1]) / (2 * M_PI));
+      } else if (block == kMass && v.size() >= 4) {
+        out.effective_mass.push_back({v[1], v[2], v[3]});
+      }
+    } else if (data && block == kEigen) {
+      block = kNone;  // the first non-numeric line after the table ends it
+    }
+  }
+  if (out.eigenvalues.empty())
+    throw Error("ccx .dat has no E I G E N V A L U E   O U T P U T block");
+  return out;
+}
+
+CcxRun run_ccx_frequency(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
+                         const Material& mat, int modes, const std::filesystem::path& dir,
+                         const std::string& name, double length_scale, int threads) {
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path inp = dir / (name + ".inp"), dat = dir / (name + ".dat"),
+                              log = dir / (name + ".log");
+  write_atomically(inp, false, [&](std::ostream& out) {
+    write_ccx_frequency_deck(out, mesh, fixed, mat, modes, length_scale);
+  });
+  std::error_code ec;
+  std::filesystem::remove(dat, ec);
+
+  CcxRun run;
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = fork();
+  if (pid < 0) throw Error("cannot start ccx (fork failed)");
+  if (pid == 0) {
+    if (chdir(dir.c_str()) != 0) _exit(126);
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+      close(fd);
+    }
+    const std::string t = std::to_string(threads);
+    setenv("OMP_NUM_THREADS", t.c_str(), 1);
+    setenv("CCX_NPROC_EQUATION_SOLVER", t.c_str(), 1);
+    execlp("ccx", "ccx", name.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  rusage ru{};
+  if (wait4(pid, &status, 0, &ru) < 0) throw Error("waiting for ccx failed");
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.peak_rss_kb = ru.ru_maxrss;
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  if (run.exit_code == 127) throw Error("ccx not found on PATH (Debian package calculix-ccx)");
+  std::ifstream in(dat);
+  if (run.exit_code != 0 || !in)
+    throw Error("ccx failed (exit " + std::to_string(run.exit_code) + "): " + tail(log, 5));
+  run.output = parse_ccx_dat(in);
+  return run;
+}
+
+}  // namespace hexfem

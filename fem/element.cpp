@@ -1,0 +1,145 @@
+#include "fem/element.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+
+void shape_functions(CellKind kind, const Vec3& xi, ShapeValues& s) {
+  switch (kind) {
+    case CellKind::Hex8:
+      hex8_shape(xi, s);
+      return;
+    case CellKind::Wedge6:
+      wedge6_shape(xi, s);
+      return;
+    case CellKind::Pyramid5:
+      pyramid5_shape(xi, s);
+      return;
+    case CellKind::Tet4:
+      tet4_shape(xi, s);
+      return;
+  }
+}
+
+QuadRule default_rule(CellKind kind) {
+  switch (kind) {
+    case CellKind::Hex8:
+      return hex8_rule();
+    case CellKind::Wedge6:
+      return wedge6_rule();
+    case CellKind::Pyramid5:
+      return pyramid5_rule();
+    case CellKind::Tet4:
+      return tet4_rule();
+  }
+  return {};
+}
+
+ReferenceElement tabulate(CellKind kind, const QuadRule& rule) {
+  ReferenceElement ref;
+  ref.kind = kind;
+  ref.n = num_nodes(kind);
+  for (const QuadPoint& p : rule) {
+    ShapeValues s;
+    shape_functions(kind, p.xi, s);
+    ref.shape.push_back(s);
+    ref.weight.push_back(p.w);
+  }
+  return ref;
+}
+
+const ReferenceElement& reference_element(CellKind kind) {
+  static const ReferenceElement table[kNumCellKinds] = {
+      tabulate(CellKind::Tet4, tet4_rule()), tabulate(CellKind::Pyramid5, pyramid5_rule()),
+      tabulate(CellKind::Wedge6, wedge6_rule()), tabulate(CellKind::Hex8, hex8_rule())};
+  return table[static_cast<int>(kind)];
+}
+
+namespace {
+
+// Physical gradients g[i] = dN_i/dx at one point; returns det J.
+double physical_gradients(const ShapeValues& s, const Vec3* x, double g[][3]) {
+  double J[3][3] = {};  // J[a][d] = dx_a / dξ_d
+  for (int i = 0; i < s.n; ++i)
+    for (int a = 0; a < 3; ++a)
+      for (int d = 0; d < 3; ++d) J[a][d] += x[i][a] * s.dN[i][d];
+  const double c00 = J[1][1] * J[2][2] - J[1][2] * J[2][1];
+  const double c01 = J[1][2] * J[2][0] - J[1][0] * J[2][2];
+  const double c02 = J[1][0] * J[2][1] - J[1][1] * J[2][0];
+  const double det = J[0][0] * c00 + J[0][1] * c01 + J[0][2] * c02;
+  if (!(det > 0)) return det;
+  // inv(J)[d][a] = cofactor(a,d)/det; g_i[a] = Σ_d dN_i/dξ_d inv(J)[d][a].
+  double inv[3][3];
+  inv[0][0] = c00 / det;
+  inv[1][0] = c01 / det;
+  inv[2][0] = c02 / det;
+  inv[0][1] = (J[0][2] * J[2][1] - J[0][1] * J[2][2]) / det;
+  inv[1][1] = (J[0][0] * J[2][2] - J[0][2] * J[2][0]) / det;
+  inv[2][1] = (J[0][1] * J[2][0] - J[0][0] * J[2][1]) / det;
+  inv[0][2] = (J[0][1] * J[1][2] - J[0][2] * J[1][1]) / det;
+  inv[1][2] = (J[0][2] * J[1][0] - J[0][0] * J[1][2]) / det;
+  inv[2][2] = (J[0][0] * J[1][1] - J[0][1] * J[1][0]) / det;
+  for (int i = 0; i < s.n; ++i)
+    for (int a = 0; a < 3; ++a)
+      g[i][a] = s.dN[i][0] * inv[0][a] + s.dN[i][1] * inv[1][a] + s.dN[i][2] * inv[2][a];
+  return det;
+}
+
+}  // namespace
+
+double element_matrices(const ReferenceElement& ref, const Vec3* x, const Material& mat, double* K,
+                        double* m) {
+  const int n = ref.n, nd = 3 * n;
+  std::fill(K, K + nd * nd, 0.0);
+  std::fill(m, m + n * n, 0.0);
+  const double lambda = mat.lambda(), mu = mat.mu();
+  double min_det = std::numeric_limits<double>::infinity();
+  double g[kMaxCellNodes][3];
+  for (std::size_t q = 0; q < ref.shape.size(); ++q) {
+    const ShapeValues& s = ref.shape[q];
+    const double det = physical_gradients(s, x, g);
+    min_det = std::min(min_det, det);
+    if (!(det > 0)) continue;  // the caller rejects the element
+    const double w = ref.weight[q] * det;
+    // (B_i^T D B_j)_ab = λ g_ia g_jb + μ g_ib g_ja + μ δ_ab g_i·g_j; upper blocks, mirrored below.
+    for (int i = 0; i < n; ++i)
+      for (int j = i; j < n; ++j) {
+        const double dot = g[i][0] * g[j][0] + g[i][1] * g[j][1] + g[i][2] * g[j][2];
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b)
+            K[(3 * i + a) * nd + 3 * j + b] +=
+                w * (lambda * g[i][a] * g[j][b] + mu * g[i][b] * g[j][a] + (a == b ? mu * dot : 0));
+        const double mij = w * mat.rho * s.N[i] * s.N[j];
+        m[i * n + j] += mij;
+      }
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < i; ++j) {
+      m[i * n + j] = m[j * n + i];
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          K[(3 * i + a) * nd + 3 * j + b] = K[(3 * j + b) * nd + 3 * i + a];
+    }
+  return min_det;
+}
+
+std::vector<std::array<double, 6>> element_strains(const ReferenceElement& ref, const Vec3* x,
+                                                   const double* u) {
+  std::vector<std::array<double, 6>> out;
+  double g[kMaxCellNodes][3];
+  for (const ShapeValues& s : ref.shape) {
+    if (!(physical_gradients(s, x, g) > 0)) throw Error("element_strains: inverted element");
+    double du[3][3] = {};  // du[a][b] = d u_a / d x_b
+    for (int i = 0; i < s.n; ++i)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) du[a][b] += u[3 * i + a] * g[i][b];
+    out.push_back({du[0][0], du[1][1], du[2][2], du[0][1] + du[1][0], du[1][2] + du[2][1],
+                   du[2][0] + du[0][2]});
+  }
+  return out;
+}
+
+}  // namespace hexfem

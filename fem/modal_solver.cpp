@@ -1,0 +1,192 @@
+#include "fem/modal_solver.hpp"
+
+#include <Spectra/MatOp/SparseSymMatProd.h>
+#include <Spectra/SymGEigsShiftSolver.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "fem/boundary.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/quality.hpp"
+
+#ifdef HEXFEM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#else
+#include <Eigen/SparseCholesky>
+#endif
+
+namespace hexfem {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// y = (K - σM)^-1 x for Spectra, factorized once per shift. K and M share one pattern, so
+// K - σM is formed on the values alone.
+class ShiftInvertOp {
+ public:
+  using Scalar = double;
+
+  ShiftInvertOp(const SparseMatrix& K, const SparseMatrix& M) : K_(K), M_(M) {}
+  Eigen::Index rows() const { return K_.rows(); }
+  Eigen::Index cols() const { return K_.cols(); }
+
+  void set_shift(double sigma) {
+    const auto t0 = std::chrono::steady_clock::now();
+    A_ = K_;
+    Eigen::Map<Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros()) -=
+        sigma * Eigen::Map<const Eigen::VectorXd>(M_.valuePtr(), M_.nonZeros());
+    solver_.compute(A_);
+    if (solver_.info() != Eigen::Success)
+      throw Error("factorization of K - sigma*M failed (sigma = " + std::to_string(sigma) +
+                  "): the model is not positive definite after the shift");
+#ifdef HEXFEM_HAVE_CHOLMOD
+    factor_nnz_ = static_cast<long>(solver_.cholmod().lnz);
+#else
+    factor_nnz_ = static_cast<long>(solver_.matrixL().nestedExpression().nonZeros());
+#endif
+    A_ = SparseMatrix();  // the factor holds what is needed
+    factor_seconds_ = seconds_since(t0);
+  }
+
+  void perform_op(const double* x_in, double* y_out) const {
+    Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
+    Eigen::Map<Eigen::VectorXd> y(y_out, rows());
+    y = solver_.solve(x);
+  }
+
+  long factor_nnz() const {
+    return factor_nnz_;
+  }
+  double factor_seconds() const {
+    return factor_seconds_;
+  }
+
+ private:
+  const SparseMatrix& K_;
+  const SparseMatrix& M_;
+  SparseMatrix A_;
+#ifdef HEXFEM_HAVE_CHOLMOD
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> solver_;
+#else
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> solver_;
+#endif
+  long factor_nnz_ = 0;
+  double factor_seconds_ = 0;
+};
+
+}  // namespace
+
+EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const EigenOptions& options) {
+  const long n = K.rows();
+  const long nev = options.num_modes;
+  if (nev < 1)
+    throw Error("the number of modes must be at least 1 (got " + std::to_string(nev) + ")");
+  if (nev >= n)
+    throw Error("requested " + std::to_string(nev) + " modes but the model has only " +
+                std::to_string(n) + " free DOFs (at most " + std::to_string(n - 1) + " modes)");
+  // Shift scale: the largest diagonal ratio bounds the spectrum from above (up to a small factor).
+  double lambda_max = 0;
+  for (long c = 0; c < n; ++c) {
+    const double kd = K.valuePtr()[K.outerIndexPtr()[c]];  // the diagonal opens each column
+    const double md = M.valuePtr()[M.outerIndexPtr()[c]];
+    if (md > 0) lambda_max = std::max(lambda_max, kd / md);
+  }
+  EigenResult res;
+  res.sigma = -options.shift_fraction * lambda_max;
+
+  ShiftInvertOp op(K, M);
+  using BOp = Spectra::SparseSymMatProd<double, Eigen::Lower, Eigen::ColMajor, long>;
+  BOp bop(M);
+  const long ncv = std::min(n, std::max(2 * nev + 1, nev + 20));
+  const auto t0 = std::chrono::steady_clock::now();
+  Spectra::SymGEigsShiftSolver<ShiftInvertOp, BOp, Spectra::GEigsMode::ShiftInvert> eigs(
+      op, bop, nev, ncv, res.sigma);
+  eigs.init();
+  eigs.compute(Spectra::SortRule::LargestMagn, 1000, options.tolerance,
+               Spectra::SortRule::SmallestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    throw Error("the eigenvalue iteration did not converge (" + std::to_string(nev) + " modes, " +
+                std::to_string(n) + " DOFs)");
+  res.factor_seconds = op.factor_seconds();
+  res.solve_seconds = seconds_since(t0) - res.factor_seconds;
+  res.factor_nnz = op.factor_nnz();
+  res.iterations = eigs.num_iterations();
+  res.operations = eigs.num_operations();
+  res.eigenvalues = eigs.eigenvalues();
+  res.vectors = eigs.eigenvectors();
+  for (long k = 0; k < res.vectors.cols(); ++k) {
+    const Eigen::VectorXd kx = K.selfadjointView<Eigen::Lower>() * res.vectors.col(k);
+    const Eigen::VectorXd mx = M.selfadjointView<Eigen::Lower>() * res.vectors.col(k);
+    const double lam = res.eigenvalues[k];
+    const double r = (kx - lam * mx).norm() / (kx.norm() + std::abs(lam) * mx.norm());
+    res.max_residual = std::max(res.max_residual, r);
+  }
+  return res;
+}
+
+ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
+  validate(options.material);
+  if (!(options.length_scale > 0) || !std::isfinite(options.length_scale))
+    throw Error("length scale must be positive");
+  if (mesh.num_cells() == 0) throw Error("the mesh has no volume cells");
+  if (options.num_modes < 1)
+    throw Error("the number of modes must be at least 1 (got " + std::to_string(options.num_modes) +
+                ")");
+  long inverted = 0, first = -1;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c)
+    if (cell_is_inverted(mesh, c) && inverted++ == 0) first = static_cast<long>(c);
+  if (inverted > 0)
+    throw Error("the mesh has " + std::to_string(inverted) + " inverted cell(s) (first: cell " +
+                std::to_string(first + 1) + ", " + kind_name(mesh.cell_kind[first]) +
+                "); fix the mesh before a modal analysis");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<std::uint8_t> fixed = select_fixed_dofs(mesh, options.fix);
+  const DofMap dofs = number_free_dofs(mesh, fixed);
+  if (dofs.num_free == 0) throw Error("every DOF is fixed: nothing to analyse");
+  if (options.num_modes >= dofs.num_free)
+    throw Error("requested " + std::to_string(options.num_modes) +
+                " modes but the model has only " + std::to_string(dofs.num_free) + " free DOFs");
+  const SystemMatrices sys = assemble_system(mesh, options.material, dofs, options.length_scale);
+
+  ModalResult out;
+  out.assemble_seconds = seconds_since(t0);
+  out.total_mass = sys.mass;
+  out.volume = sys.volume;
+  out.num_free_dofs = dofs.num_free;
+  out.num_fixed_dofs = dofs.num_fixed;
+  out.num_cells = static_cast<long>(mesh.num_cells());
+  out.num_nodes = static_cast<long>(mesh.nodes.size());
+
+  EigenOptions eo = options.eigen;
+  eo.num_modes = options.num_modes;
+  out.eigen = solve_eigen(sys.K, sys.M, eo);
+  const Eigen::MatrixXd& phi = out.eigen.vectors;
+  const long k = phi.cols();
+
+  // Γ_d = φᵀ M r_d with r_d the unit rigid translation along d (free DOFs only).
+  out.effective_mass_fraction.resize(k, 3);
+  for (int d = 0; d < 3; ++d) {
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(dofs.num_free);
+    for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
+      if (dofs.dof[3 * v + d] >= 0) r[dofs.dof[3 * v + d]] = 1;
+    const Eigen::VectorXd mr = sys.M.selfadjointView<Eigen::Lower>() * r;
+    const Eigen::VectorXd gamma = phi.transpose() * mr;
+    out.effective_mass_fraction.col(d) = gamma.array().square() / sys.mass;
+  }
+  out.modes.resize(3 * static_cast<long>(mesh.nodes.size()), k);
+  for (long j = 0; j < k; ++j) {
+    const double lam = out.eigen.eigenvalues[j];
+    out.eigenvalues.push_back(lam);
+    out.frequencies.push_back(std::copysign(std::sqrt(std::abs(lam)) / (2 * M_PI), lam));
+    out.modes.col(j) = expand_to_nodes(dofs, phi.col(j));
+  }
+  out.eigen.vectors.resize(0, 0);
+  return out;
+}
+
+}  // namespace hexfem
