@@ -1,0 +1,61 @@
+// The Table-2 arithmetic of `hexfem converge` against hand-made sequences with known orders.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "app/convergence_table.hpp"
+
+namespace hexfem {
+namespace {
+
+ConvergenceStudy quadratic_study(bool with_reference) {
+  // f_i(h) = ref_i (1 + c_i h^2): the observed order is exactly 2 for every pair.
+  ConvergenceStudy s;
+  s.part = "synthetic";
+  const std::vector<double> ref = {100.0, 250.0};
+  const std::vector<double> c = {0.01, -0.02};
+  for (double h : {2.0, 1.0, 0.5}) {
+    ConvergenceRow row;
+    row.h = h;
+    for (int i = 0; i < 2; ++i) row.frequencies.push_back(ref[i] * (1 + c[i] * h * h));
+    s.rows.push_back(row);
+  }
+  if (with_reference) s.reference = ref;
+  return s;
+}
+
+TEST(ConvergenceTable, OrdersAndErrorsWithReference) {
+  const ConvergenceStudy s = quadratic_study(true);
+  EXPECT_NEAR(s.error(0, 0), 0.04, 1e-15);
+  EXPECT_NEAR(s.error(2, 1), -0.005, 1e-15);
+  EXPECT_NEAR(s.observed_order(1, 0), 2.0, 1e-12);
+  EXPECT_NEAR(s.observed_order(2, 1), 2.0, 1e-12);
+  EXPECT_TRUE(s.monotone(0));
+  EXPECT_TRUE(s.monotone(1));
+  EXPECT_TRUE(std::isnan(s.observed_order(0, 0)));
+}
+
+TEST(ConvergenceTable, OrderFromThreeRowsWithoutReference) {
+  const ConvergenceStudy s = quadratic_study(false);
+  EXPECT_TRUE(std::isnan(s.observed_order(1, 0)));
+  EXPECT_NEAR(s.observed_order(2, 0), 2.0, 1e-12);
+  EXPECT_TRUE(std::isnan(s.error(0, 0)));
+}
+
+TEST(ConvergenceTable, NonMonotoneIsReported) {
+  ConvergenceStudy s = quadratic_study(true);
+  s.rows[2].frequencies[0] = 105.0;  // worse than h = 1 (101)
+  EXPECT_FALSE(s.monotone(0));
+}
+
+TEST(ConvergenceTable, TextMarkdownCsv) {
+  const ConvergenceStudy s = quadratic_study(true);
+  const std::string csv = convergence_csv(s);
+  EXPECT_NE(csv.find("h,nodes,cells,H_nbr,H_vol,seconds,f1,err_f1,f2,err_f2"), std::string::npos);
+  EXPECT_NE(csv.find("104.000000,4.000000e-02"), std::string::npos) << csv;
+  EXPECT_NE(convergence_markdown(s).find("| 2 |"), std::string::npos);
+  EXPECT_NE(convergence_text(s).find("f1 2.00 f2 2.00"), std::string::npos) << convergence_text(s);
+}
+
+}  // namespace
+}  // namespace hexfem
