@@ -6,6 +6,7 @@
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepGProp.hxx>
 #include <BRepTools.hxx>
+#include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
@@ -310,8 +311,18 @@ void CadModel::Impl::build_tables() {
     for (TopExp_Explorer w(fwd, TopAbs_WIRE); w.More(); w.Next())
       if (!w.Current().IsSame(outer)) wires.push_back(TopoDS::Wire(w.Current()));
     for (std::size_t w = 0; w < wires.size(); ++w) {
-      for (TopExp_Explorer ex(wires[w], TopAbs_EDGE); ex.More(); ex.Next()) {
-        const TopoDS_Edge& ed = TopoDS::Edge(ex.Current());
+      // Connection order (BRepTools_WireExplorer); a defective wire it cannot walk whole is
+      // taken in storage order and its gaps are bridged by the mesher.
+      std::vector<TopoDS_Edge> ordered, stored;
+      for (BRepTools_WireExplorer wx(wires[w], fwd); wx.More(); wx.Next())
+        ordered.push_back(wx.Current());
+      for (TopExp_Explorer ex(wires[w], TopAbs_EDGE); ex.More(); ex.Next())
+        stored.push_back(TopoDS::Edge(ex.Current()));
+      if (ordered.size() != stored.size()) {
+        ordered = stored;
+        warnings.push_back("face " + std::to_string(i + 1) + ": a wire is not connected in order");
+      }
+      for (const TopoDS_Edge& ed : ordered) {
         CoEdge ce;
         ce.edge = edge_map.FindIndex(ed);
         ce.reversed = ed.Orientation() == TopAbs_REVERSED;

@@ -1,0 +1,154 @@
+// `hexfem mesh part.step --h 1.0 --dim 2 -o surface.msh|.vtu [--json] [--force]
+//  [--curvature N] [--size-at vertex:ID=h]...`: the surface mesh of a CAD part (--dim 3, the
+// volume stage, is not wired in yet).
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "app/command_registry.hpp"
+#include "mesher/cad/cad_model.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/mesh_io.hpp"
+#include "mesher/surface_check.hpp"
+#include "mesher/surface_pipeline.hpp"
+
+namespace hexfem {
+namespace {
+
+struct MeshArgs {
+  std::string file;
+  double h = 0;
+  int dim = 2;
+  std::string output;
+  bool json = false;
+  bool force = false;
+  int curvature = 0;
+  std::vector<std::string> size_at;
+};
+
+std::pair<int, double> parse_size_at(const std::string& s) {
+  static const std::regex re(R"(vertex:(\d+)=([-+0-9.eE]+))");
+  std::smatch m;
+  if (!std::regex_match(s, m, re)) throw Error("--size-at '" + s + "': expected vertex:ID=h");
+  try {
+    return {std::stoi(m[1].str()), std::stod(m[2].str())};
+  } catch (const std::exception&) {
+    throw Error("--size-at '" + s + "': expected vertex:ID=h");
+  }
+}
+
+int run(const MeshArgs& a) {
+  using Clock = std::chrono::steady_clock;
+  if (a.dim == 3) throw Error("--dim 3 (volume meshing) is not available yet; use --dim 2");
+  if (a.dim != 2) throw Error("--dim must be 2 (surface) or 3 (volume)");
+  if (!(a.h > 0)) throw Error("--h must be > 0 (got " + std::to_string(a.h) + ")");
+  if (!a.output.empty()) {
+    const std::string ext = std::filesystem::path(a.output).extension().string();
+    if (ext != ".msh" && ext != ".vtu" && ext != ".inp")
+      throw Error("-o '" + a.output + "': the output must end in .msh, .vtu or .inp");
+  }
+  SurfaceOptions opt;
+  opt.h = a.h;
+  opt.curvature = a.curvature;
+  opt.force = a.force;
+  for (const auto& s : a.size_at) opt.vertex_sizes.push_back(parse_size_at(s));
+
+  auto t0 = Clock::now();
+  const CadModel cad = CadModel::read(a.file);
+  const double read_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  SurfaceReport rep;
+  const SurfaceMesh surface = mesh_surface(cad, opt, &rep);
+  rep.stage_seconds.insert(rep.stage_seconds.begin(), {"read CAD", read_s});
+
+  t0 = Clock::now();
+  const auto checks = check_solids(surface);
+  rep.stage_seconds.emplace_back("checks",
+                                 std::chrono::duration<double>(Clock::now() - t0).count());
+  for (const auto& c : checks) {
+    if (c.ok()) continue;
+    char msg[300];
+    std::snprintf(msg, sizeof msg,
+                  "the surface mesh of solid %d is invalid (%zu open, %zu non-manifold, %zu "
+                  "misoriented edges, %s, volume %g); not written",
+                  c.solid, c.open_edges, c.nonmanifold_edges, c.misoriented_edges,
+                  c.self_intersects ? "self-intersecting" : "no self-intersection", c.volume);
+    throw Error(msg);
+  }
+  if (!a.output.empty()) {
+    t0 = Clock::now();
+    write_mesh(surface.mesh, a.output);
+    rep.stage_seconds.emplace_back("write",
+                                   std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+
+  double total = 0;
+  for (const auto& [name, s] : rep.stage_seconds) total += s;
+  double mesh_volume = 0;
+  for (const auto& c : checks) mesh_volume += c.volume;
+  if (a.json) {
+    nlohmann::json j;
+    j["file"] = a.file;
+    j["file_unit"] = cad.file_unit();
+    j["h"] = a.h;
+    j["points"] = rep.points;
+    j["edge_points"] = rep.edge_points;
+    j["triangles"] = rep.triangles;
+    j["estimated_points"] = rep.estimated_points;
+    j["right_isosceles_share"] = rep.quality.right_isosceles_share;
+    j["min_angle_deg"] = rep.quality.min_angle;
+    j["max_angle_deg"] = rep.quality.max_angle;
+    j["triangles_below_5deg"] = rep.quality.below_5;
+    j["cad_volume"] = cad.volume();
+    j["mesh_volume"] = mesh_volume;
+    j["solids"] = nlohmann::json::array();
+    for (const auto& c : checks)
+      j["solids"].push_back({{"id", c.solid},
+                             {"triangles", c.triangles},
+                             {"volume", c.volume},
+                             {"cad_volume", cad.solid_volume(c.solid)},
+                             {"closed", c.open_edges == 0 && c.nonmanifold_edges == 0},
+                             {"oriented", c.misoriented_edges == 0 && c.volume > 0},
+                             {"self_intersects", c.self_intersects}});
+    j["stage_seconds"] = nlohmann::json::object();
+    for (const auto& [name, s] : rep.stage_seconds) j["stage_seconds"][name] = s;
+    j["total_seconds"] = total;
+    if (!a.output.empty()) j["output"] = a.output;
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: %d solid(s), %d faces (file unit %s, meshed in mm)\n", a.file.c_str(),
+              cad.num_solids(), cad.num_faces(), cad.file_unit().c_str());
+  std::printf("h = %g: %zu points (%zu on edges; area/h^2 = %.0f), %zu triangles\n", a.h,
+              rep.points, rep.edge_points, rep.estimated_points, rep.triangles);
+  std::printf("right-isosceles-like triangles: %.1f %%; angles %.2f..%.2f deg, %zu below 5 deg\n",
+              100 * rep.quality.right_isosceles_share, rep.quality.min_angle, rep.quality.max_angle,
+              rep.quality.below_5);
+  std::printf(
+      "closed, outward, no self-intersection: %zu solid(s); enclosed volume %.9g (CAD %.9g)\n",
+      checks.size(), mesh_volume, cad.volume());
+  std::printf("time:");
+  for (const auto& [name, s] : rep.stage_seconds) std::printf(" %s %.3f s,", name.c_str(), s);
+  std::printf(" total %.3f s\n", total);
+  if (!a.output.empty()) std::printf("wrote %s\n", a.output.c_str());
+  return 0;
+}
+
+RegisterCommand reg{{"mesh", "Mesh a CAD part (--dim 2: surface mesh by packing of parallelograms)",
+                     [](CLI::App& sub) {
+                       auto a = std::make_shared<MeshArgs>();
+                       sub.add_option("file", a->file, "STEP, IGES or BREP file")->required();
+                       sub.add_option("--h", a->h, "target element size (mm)")->required();
+                       sub.add_option("--dim", a->dim, "2 = surface mesh, 3 = volume mesh");
+                       sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)");
+                       sub.add_flag("--json", a->json, "print the report as JSON on stdout");
+                       sub.add_flag("--force", a->force, "allow more than 50 M surface points");
+                       sub.add_option("--curvature", a->curvature,
+                                      "curvature bound: N elements per 2*pi (0 = off)");
+                       sub.add_option("--size-at", a->size_at, "size at a CAD vertex: vertex:ID=h");
+                       return [a] { return run(*a); };
+                     }}};
+
+}  // namespace
+}  // namespace hexfem

@@ -1,0 +1,46 @@
+// Stage 2: points on the CAD edges, spaced by the size field. Every face bounded by an edge
+// uses the same points, so the surface mesh is conforming along edges by construction.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "mesher/cad/cad_model.hpp"
+#include "mesher/size_field.hpp"
+
+namespace hexfem {
+
+struct EdgePoints {
+  // Boundary nodes: node v-1 is CAD vertex v, edge interior points follow.
+  std::vector<Vec3> xyz;
+  std::vector<double> size;    // size field at the node
+  std::vector<int> node_edge;  // edge id of an interior edge point, 0 for a CAD vertex
+  // Per edge (index e-1): parameters t of its points, first to last, and their node ids.
+  // A degenerate edge has two points, both its vertex; a closed edge starts and ends at its
+  // vertex.
+  std::vector<std::vector<double>> t;
+  std::vector<std::vector<int>> node;
+};
+
+// One face's boundary in its parameter plane: the edge points of its wires in wire order.
+// A node can appear at several (u, v) (both sides of a seam, the whole line of a pole).
+struct FaceBoundary {
+  std::vector<Vec2> uv;
+  std::vector<int> node;
+  std::vector<int> coedge;       // index into cad.coedges(f) of the coedge the point is on
+  std::vector<int> prev_coedge;  // at a coedge's first point: the coedge ending there, else -1
+  std::vector<double> t;         // edge parameter of the point on its coedge
+  std::vector<std::array<int, 2>> segments;  // pairs of point indices, along the wires
+};
+
+// Discretises every edge. Where the straight segments of a face's boundary would cross in its
+// parameter plane (a coarse size on a tight curve), the edges involved are refined.
+// Throws hexfem::Error when a face boundary cannot be made free of crossings.
+EdgePoints discretise_edges(const CadModel& cad, const SizeField& size);
+
+FaceBoundary face_boundary(const CadModel& cad, int f, const EdgePoints& points);
+
+// Pairs of segments of `b` that cross (indices into b.segments).
+std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b);
+
+}  // namespace hexfem

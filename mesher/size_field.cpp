@@ -1,0 +1,66 @@
+#include "mesher/size_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+
+SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
+    : cad_(cad), h_(options.h), curvature_(options.curvature) {
+  if (!(h_ > 0) || !std::isfinite(h_))
+    throw Error("the mesh size h must be > 0 (got " + std::to_string(h_) + ")");
+  if (curvature_ < 0) throw Error("--curvature must be >= 0 elements per 2*pi");
+  if (curvature_ > 0 && curvature_ < 3)
+    throw Error("--curvature must be at least 3 elements per 2*pi");
+  vertex_size_.assign(static_cast<std::size_t>(cad.num_vertices()), h_);
+  floor_ = h_ * options.min_ratio;
+  h_min_ = curvature_ > 0 ? floor_ : h_;
+  for (const auto& [v, s] : options.vertex_sizes) {
+    if (v < 1 || v > cad.num_vertices())
+      throw Error("--size-at: no vertex " + std::to_string(v) + " (the part has " +
+                  std::to_string(cad.num_vertices()) + " vertices)");
+    if (!(s > 0) || !std::isfinite(s))
+      throw Error("--size-at vertex:" + std::to_string(v) + ": size must be > 0");
+    vertex_size_[static_cast<std::size_t>(v - 1)] = s;
+    h_min_ = std::min(h_min_, s);
+  }
+  edge_uses_.resize(static_cast<std::size_t>(cad.num_edges()));
+  for (int f = 1; f <= cad.num_faces(); ++f) {
+    const auto& ces = cad.coedges(f);
+    for (std::size_t c = 0; c < ces.size(); ++c) {
+      auto& uses = edge_uses_[static_cast<std::size_t>(ces[c].edge - 1)];
+      if (std::none_of(uses.begin(), uses.end(), [f](const auto& p) { return p.first == f; }))
+        uses.emplace_back(f, static_cast<int>(c));
+    }
+  }
+}
+
+double SizeField::curvature_bound(double kappa) const {
+  if (curvature_ <= 0 || !(kappa > 0)) return std::numeric_limits<double>::infinity();
+  return std::max(2 * std::numbers::pi / (curvature_ * kappa), floor_);
+}
+
+double SizeField::surface_bound(int f, Vec2 uv) const {
+  if (curvature_ <= 0 || cad_.surface_type(f) == SurfaceType::Plane)
+    return std::numeric_limits<double>::infinity();
+  return curvature_bound(cad_.max_curvature(f, uv));
+}
+
+double SizeField::edge_size(int e, double t, double s) const {
+  const auto [v0, v1] = cad_.edge_vertices(e);
+  const double h0 = v0 > 0 ? vertex_size(v0) : h_;
+  const double h1 = v1 > 0 ? vertex_size(v1) : h_;
+  double size = h0 + (h1 - h0) * std::clamp(s, 0.0, 1.0);
+  if (curvature_ > 0) {
+    size = std::min(size, curvature_bound(cad_.edge_curvature(e, t)));
+    for (const auto& [f, c] : edge_uses_[static_cast<std::size_t>(e - 1)])
+      size = std::min(size, surface_bound(f, cad_.coedge_uv(f, c, t)));
+  }
+  return size;
+}
+
+}  // namespace hexfem

@@ -1,0 +1,52 @@
+// Stage 1 of the surface mesher: the size field. A global size h, optional sizes at CAD
+// vertices, and a curvature bound (N elements per 2*pi of turning). Vertex sizes spread along
+// edges by 1D interpolation in arc length (paper, "Cross fields"); faces get theirs from a
+// Laplace solve with the edge sizes as Dirichlet data (cross_field.cpp, same background mesh).
+#pragma once
+
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "mesher/cad/cad_model.hpp"
+
+namespace hexfem {
+
+struct SizeOptions {
+  double h = 1.0;                                    // global target size, mm
+  int curvature = 0;                                 // elements per 2*pi; 0 = no curvature bound
+  std::vector<std::pair<int, double>> vertex_sizes;  // (CAD vertex id, size)
+  // The curvature bound never goes below h * min_ratio (a tiny fillet radius would otherwise
+  // ask for an unbounded number of points).
+  double min_ratio = 0.05;
+};
+
+class SizeField {
+ public:
+  // Throws hexfem::Error on h <= 0, a bad vertex id or a size <= 0.
+  SizeField(const CadModel& cad, const SizeOptions& options);
+
+  double global() const { return h_; }
+  double min_size() const { return h_min_; }
+  double vertex_size(int v) const { return vertex_size_[static_cast<std::size_t>(v - 1)]; }
+  // The size bound from a curvature kappa (infinite when the bound is off or kappa = 0).
+  double curvature_bound(double kappa) const;
+  // Size bound of face f at (u, v) from the surface's curvature.
+  double surface_bound(int f, Vec2 uv) const;
+  // Size along edge e at parameter t, where s in [0, 1] is the arc-length fraction from the
+  // first vertex: the vertex sizes interpolated, bounded by the curvature of the edge and of
+  // the faces it bounds (so a fillet's straight edges are as fine as its section).
+  double edge_size(int e, double t, double s) const;
+
+ private:
+  const CadModel& cad_;
+  double h_;
+  double h_min_;  // smallest size anywhere (curvature floor or a vertex size)
+  double floor_;  // smallest size the curvature bound may ask for
+  int curvature_;
+  std::vector<double> vertex_size_;
+  // For each edge, the faces it bounds with one coedge index in each (for the pcurve).
+  std::vector<std::vector<std::pair<int, int>>> edge_uses_;
+};
+
+}  // namespace hexfem

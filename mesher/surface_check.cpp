@@ -1,0 +1,125 @@
+#include "mesher/surface_check.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <unordered_map>
+
+namespace hexfem {
+
+std::array<double, 3> triangle_angles(const Vec3& a, const Vec3& b, const Vec3& c) {
+  auto ang = [](const Vec3& at, const Vec3& p, const Vec3& q) {
+    const double ux = p[0] - at[0], uy = p[1] - at[1], uz = p[2] - at[2];
+    const double vx = q[0] - at[0], vy = q[1] - at[1], vz = q[2] - at[2];
+    const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+    // atan2 of |u x v| and u.v: accurate for tiny and near-straight angles alike.
+    return std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), ux * vx + uy * vy + uz * vz) * 180 /
+           std::numbers::pi;
+  };
+  return {ang(a, b, c), ang(b, c, a), ang(c, a, b)};
+}
+
+bool is_right_isosceles(const Vec3& a, const Vec3& b, const Vec3& c) {
+  auto t = triangle_angles(a, b, c);
+  std::sort(t.begin(), t.end());
+  return std::abs(t[2] - 90) <= 10 && std::abs(t[1] - 45) <= 10 && std::abs(t[0] - 45) <= 10;
+}
+
+TriangleQuality triangle_quality(const MixedMesh& m) {
+  TriangleQuality q;
+  std::size_t ri = 0;
+  for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
+    if (m.bface_is_quad(f)) continue;
+    const auto* t = m.bface(f);
+    const Vec3 &a = m.nodes[static_cast<std::size_t>(t[0])],
+               &b = m.nodes[static_cast<std::size_t>(t[1])],
+               &c = m.nodes[static_cast<std::size_t>(t[2])];
+    const auto ang = triangle_angles(a, b, c);
+    const double lo = std::min({ang[0], ang[1], ang[2]}), hi = std::max({ang[0], ang[1], ang[2]});
+    q.min_angle = std::min(q.min_angle, lo);
+    q.max_angle = std::max(q.max_angle, hi);
+    if (lo < 5) ++q.below_5;
+    if (is_right_isosceles(a, b, c)) ++ri;
+    ++q.triangles;
+  }
+  q.right_isosceles_share =
+      q.triangles ? static_cast<double>(ri) / static_cast<double>(q.triangles) : 0;
+  return q;
+}
+
+std::vector<SolidCheck> check_solids(const SurfaceMesh& s, bool self_intersection) {
+  const MixedMesh& m = s.mesh;
+  std::vector<SolidCheck> out;
+  for (std::size_t solid = 1; solid < s.faces_of_solid.size(); ++solid) {
+    SolidCheck c;
+    c.solid = static_cast<int>(solid);
+    const auto& faces = s.faces_of_solid[solid];
+    std::vector<std::size_t> tris;
+    for (std::size_t f = 0; f < m.num_bfaces(); ++f)
+      if (std::find(faces.begin(), faces.end(), m.bface_cad_face[f]) != faces.end())
+        tris.push_back(f);
+    c.triangles = tris.size();
+    // Directed edge counts: a closed, consistently oriented manifold uses each undirected edge
+    // once in each direction.
+    std::map<std::pair<int, int>, std::array<int, 2>> edges;
+    for (std::size_t f : tris) {
+      const auto* t = m.bface(f);
+      for (int k = 0; k < 3; ++k) {
+        const int a = t[k], b = t[(k + 1) % 3];
+        auto& e = edges[{std::min(a, b), std::max(a, b)}];
+        ++e[a < b ? 0 : 1];
+      }
+      const Vec3 &p = m.nodes[static_cast<std::size_t>(t[0])],
+                 &q = m.nodes[static_cast<std::size_t>(t[1])],
+                 &r = m.nodes[static_cast<std::size_t>(t[2])];
+      c.volume += (p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) +
+                   p[2] * (q[0] * r[1] - q[1] * r[0])) /
+                  6.0;
+    }
+    for (const auto& [key, n] : edges) {
+      const int total = n[0] + n[1];
+      if (total == 1)
+        ++c.open_edges;
+      else if (total > 2)
+        ++c.nonmanifold_edges;
+      else if (n[0] != 1)
+        ++c.misoriented_edges;
+    }
+    if (self_intersection && c.open_edges == 0 && c.nonmanifold_edges == 0 &&
+        c.misoriented_edges == 0) {
+      using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+      using Mesh = CGAL::Surface_mesh<K::Point_3>;
+      Mesh mesh;
+      std::unordered_map<int, Mesh::Vertex_index> vmap;
+      auto vertex = [&](int n) {
+        auto it = vmap.find(n);
+        if (it != vmap.end()) return it->second;
+        const Vec3& p = m.nodes[static_cast<std::size_t>(n)];
+        auto v = mesh.add_vertex(K::Point_3(p[0], p[1], p[2]));
+        vmap.emplace(n, v);
+        return v;
+      };
+      bool built = true;
+      for (std::size_t f : tris) {
+        const auto* t = m.bface(f);
+        if (mesh.add_face(vertex(t[0]), vertex(t[1]), vertex(t[2])) == Mesh::null_face())
+          built = false;
+      }
+      // A vertex where two sheets touch (non-manifold vertex) cannot be built; CGAL would
+      // not test such a mesh, so it counts as failing.
+      c.self_intersection_tested = true;
+      c.self_intersects =
+          !built ||
+          CGAL::Polygon_mesh_processing::does_self_intersect<CGAL::Parallel_if_available_tag>(mesh);
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace hexfem

@@ -1,0 +1,219 @@
+#include "mesher/surface_pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <optional>
+
+#include "mesher/cross_field.hpp"
+#include "mesher/edge_points.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/progress.hpp"
+#include "mesher/size_field.hpp"
+#include "mesher/surface_points.hpp"
+#include "mesher/surface_triangulation.hpp"
+#include "mesher/vec3.hpp"
+
+namespace hexfem {
+
+namespace {
+
+using v3::cross;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Runs body(i) for i in [0, n) on all threads; the first exception is rethrown afterwards.
+template <class Body>
+void parallel_for(int n, Body body) {
+  std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int i = 0; i < n; ++i) {
+    try {
+      body(i);
+    } catch (...) {
+#pragma omp critical(hexfem_surface_error)
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+SizeOptions size_options(const SurfaceOptions& o) {
+  SizeOptions s;
+  s.h = o.h;
+  s.curvature = o.curvature;
+  s.vertex_sizes = o.vertex_sizes;
+  return s;
+}
+
+double face_estimate(const CadModel& cad, const SizeField& size, int f) {
+  const auto b = cad.uv_bounds(f);
+  const double h =
+      std::min(size.global(), size.surface_bound(f, {0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3])}));
+  return cad.face_area(f) / (h * h);
+}
+
+}  // namespace
+
+double estimate_surface_points(const CadModel& cad, const SurfaceOptions& options) {
+  const SizeField size(cad, size_options(options));
+  double n = 0;
+  for (int f = 1; f <= cad.num_faces(); ++f)
+    if (!cad.solids_of_face(f).empty()) n += face_estimate(cad, size, f);
+  return n;
+}
+
+SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
+                         SurfaceReport* report) {
+  SurfaceReport local;
+  SurfaceReport& rep = report ? *report : local;
+  rep = SurfaceReport{};
+  if (!(options.k > 0 && options.k < 1)) throw Error("the packing factor k must be in (0, 1)");
+
+  auto t0 = Clock::now();
+  const SizeField size(cad, size_options(options));
+  rep.estimated_points = estimate_surface_points(cad, options);
+  if (rep.estimated_points > options.max_points && !options.force) {
+    char msg[200];
+    std::snprintf(
+        msg, sizeof msg,
+        "h = %g gives about %.3g surface points (more than %.3g); use a larger h or --force",
+        options.h, rep.estimated_points, options.max_points);
+    throw Error(msg);
+  }
+  rep.stage_seconds.emplace_back("size field", seconds_since(t0));
+
+  t0 = Clock::now();
+  show_progress("surface mesh: edge points");
+  const EdgePoints edges = discretise_edges(cad, size);
+  std::vector<int> faces;  // faces of solids, in id order
+  for (int f = 1; f <= cad.num_faces(); ++f)
+    if (!cad.solids_of_face(f).empty()) faces.push_back(f);
+  const int nf = static_cast<int>(faces.size());
+  std::vector<FaceBoundary> boundary(static_cast<std::size_t>(nf));
+  for (int i = 0; i < nf; ++i)
+    boundary[static_cast<std::size_t>(i)] =
+        face_boundary(cad, faces[static_cast<std::size_t>(i)], edges);
+  rep.edge_points = edges.xyz.size();
+  rep.stage_seconds.emplace_back("edge points", seconds_since(t0));
+
+  t0 = Clock::now();
+  show_progress("surface mesh: cross field");
+  std::vector<std::optional<FaceField>> field(static_cast<std::size_t>(nf));
+  parallel_for(nf, [&](int i) {
+    const auto k = static_cast<std::size_t>(i);
+    field[k].emplace(cad, faces[k], boundary[k], edges, size);
+  });
+  for (const auto& fl : field) rep.background_triangles += fl->background_triangles();
+  rep.stage_seconds.emplace_back("cross field", seconds_since(t0));
+
+  t0 = Clock::now();
+  show_progress("surface mesh: packing of parallelograms");
+  std::vector<FacePoints> pts(static_cast<std::size_t>(nf));
+  parallel_for(nf, [&](int i) {
+    const auto k = static_cast<std::size_t>(i);
+    PackingOptions po;
+    po.k = options.k;
+    const double est = face_estimate(cad, size, faces[k]);
+    po.budget = static_cast<std::size_t>(std::min(4 * std::max(est, 1000.0) + 1e4, 2.5e8));
+    pts[k] = pack_face(cad, *field[k], boundary[k], edges, po);
+  });
+  for (const auto& p : pts) rep.candidates += p.candidates;
+  rep.stage_seconds.emplace_back("packing", seconds_since(t0));
+
+  t0 = Clock::now();
+  show_progress("surface mesh: triangulation");
+  std::vector<FaceTriangles> tris(static_cast<std::size_t>(nf));
+  parallel_for(nf, [&](int i) {
+    const auto k = static_cast<std::size_t>(i);
+    tris[k] = triangulate_face(faces[k], boundary[k], pts[k], edges, field[k]->scale());
+  });
+  rep.stage_seconds.emplace_back("triangulation", seconds_since(t0));
+
+  // Assembly: edge nodes first, then each face's used interior points in face order.
+  t0 = Clock::now();
+  SurfaceMesh out;
+  MixedMesh& m = out.mesh;
+  m.nodes = edges.xyz;
+  const std::size_t nedge = edges.xyz.size();
+  std::vector<int> owner_face(nedge, -1);  // index into faces
+  std::vector<Vec2> owner_uv(nedge);
+  for (int i = 0; i < nf; ++i) {
+    const auto& b = boundary[static_cast<std::size_t>(i)];
+    for (std::size_t p = 0; p < b.uv.size(); ++p) {
+      const auto n = static_cast<std::size_t>(b.node[p]);
+      if (owner_face[n] < 0) owner_face[n] = i, owner_uv[n] = b.uv[p];
+    }
+  }
+  for (int i = 0; i < nf; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const int f = faces[k];
+    const int nb = static_cast<int>(boundary[k].uv.size());
+    std::vector<int> global(pts[k].uv.size(), -1);
+    for (std::size_t j = 0; j < pts[k].uv.size(); ++j) {
+      if (!tris[k].interior_used[j]) continue;
+      global[j] = static_cast<int>(m.nodes.size());
+      m.nodes.push_back(pts[k].xyz[j]);
+      owner_face.push_back(i);
+      owner_uv.push_back(pts[k].uv[j]);
+    }
+    const bool rev = cad.face_reversed(f);
+    for (const auto& t : tris[k].triangles) {
+      std::array<int, 3> g;
+      for (int c = 0; c < 3; ++c)
+        g[static_cast<std::size_t>(c)] =
+            t[static_cast<std::size_t>(c)] < nb
+                ? boundary[k].node[static_cast<std::size_t>(t[static_cast<std::size_t>(c)])]
+                : global[static_cast<std::size_t>(t[static_cast<std::size_t>(c)] - nb)];
+      if (rev) std::swap(g[1], g[2]);
+      m.add_bface(g[0], g[1], g[2], -1, f);
+    }
+    rep.flips += tris[k].flips;
+  }
+
+  // Per node: the frame of its owning face there, n outward, and the size.
+  const std::size_t nn = m.nodes.size();
+  out.frame.resize(nn);
+  out.size.resize(nn);
+  out.on_edge.assign(nn, false);
+  for (std::size_t n = 0; n < nn; ++n) {
+    out.on_edge[n] = n < nedge;
+    if (owner_face[n] < 0) {  // a vertex of no meshed face (cannot happen for solids)
+      out.frame[n] = {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
+      out.size[n] = size.global();
+      continue;
+    }
+    const auto k = static_cast<std::size_t>(owner_face[n]);
+    const int f = faces[k];
+    Vec2 uv = owner_uv[n];
+    Frame fr = field[k]->frame(uv);
+    // At a pole or apex the tangent plane is undefined: take the frame just inside the face.
+    const auto bd = cad.uv_bounds(f);
+    const Vec2 mid{0.5 * (bd[0] + bd[1]), 0.5 * (bd[2] + bd[3])};
+    for (double step : {1e-6, 1e-4, 1e-2}) {
+      if (fr.ok) break;
+      fr = field[k]->frame({uv[0] + step * (mid[0] - uv[0]), uv[1] + step * (mid[1] - uv[1])});
+    }
+    Vec3 nrm = fr.ok ? fr.n : Vec3{0, 0, 1};
+    Vec3 d1 = fr.ok ? fr.d1 : Vec3{1, 0, 0};
+    if (cad.face_reversed(f)) nrm = {-nrm[0], -nrm[1], -nrm[2]};
+    out.frame[n] = {d1, cross(nrm, d1), nrm};
+    out.size[n] = n < nedge ? edges.size[n] : fr.h;
+  }
+  out.faces_of_solid.resize(static_cast<std::size_t>(cad.num_solids()) + 1);
+  for (int s = 1; s <= cad.num_solids(); ++s)
+    out.faces_of_solid[static_cast<std::size_t>(s)] = cad.faces_of_solid(s);
+  rep.points = nn;
+  rep.triangles = m.num_bfaces();
+  rep.quality = triangle_quality(m);
+  rep.stage_seconds.emplace_back("assembly", seconds_since(t0));
+  end_progress();
+  return out;
+}
+
+}  // namespace hexfem

@@ -1,0 +1,43 @@
+// The surface mesher, stage by stage in the paper's order: size field, edge points, cross
+// field, packing of parallelograms, triangulation. Faces are meshed in parallel (OpenMP).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mesher/cad/cad_model.hpp"
+#include "mesher/surface_check.hpp"
+#include "mesher/surface_mesh.hpp"
+
+namespace hexfem {
+
+struct SurfaceOptions {
+  double h = 1.0;                                    // target size, mm
+  int curvature = 0;                                 // elements per 2*pi, 0 = off
+  std::vector<std::pair<int, double>> vertex_sizes;  // (CAD vertex id, size)
+  double k = 0.7;                                    // packing exclusion factor (paper: 0.7)
+  bool force = false;                                // allow more than max_points
+  double max_points = 50e6;
+};
+
+struct SurfaceReport {
+  double estimated_points = 0;  // sum over faces of area / h^2
+  std::size_t edge_points = 0;  // nodes on CAD edges and vertices
+  std::size_t points = 0;       // all nodes
+  std::size_t triangles = 0;
+  std::size_t candidates = 0;  // packing candidates examined
+  std::size_t flips = 0;       // 3D Delaunay flips
+  std::size_t background_triangles = 0;
+  std::vector<std::pair<std::string, double>> stage_seconds;
+  TriangleQuality quality;
+};
+
+// Throws hexfem::Error (one line) on bad options or a face that cannot be meshed.
+SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
+                         SurfaceReport* report = nullptr);
+
+// Surface points the options would give, from the areas (the check behind max_points).
+double estimate_surface_points(const CadModel& cad, const SurfaceOptions& options);
+
+}  // namespace hexfem

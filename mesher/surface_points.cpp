@@ -1,0 +1,135 @@
+#include "mesher/surface_points.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <string>
+
+#include "mesher/mesh/error.hpp"
+#include "mesher/rtree2d.hpp"
+#include "mesher/vec3.hpp"
+
+namespace hexfem {
+
+namespace {
+
+namespace bgi = boost::geometry::index;
+using BPoint = rt2::Point;
+using BBox = rt2::Box;
+using Tree = rt2::PointTree;
+using v3::dot;
+
+// Parametric step whose image under the tangent map is the 3D tangent vector t (eq. 2).
+bool parametric_step(const Frame& fr, const Vec3& t, Vec2& du) {
+  const double m11 = dot(fr.t1, fr.t1), m12 = dot(fr.t1, fr.t2), m22 = dot(fr.t2, fr.t2);
+  const double det = m11 * m22 - m12 * m12;
+  if (!(det > 1e-300)) return false;
+  const double r1 = dot(t, fr.t1), r2 = dot(t, fr.t2);
+  du = {(m22 * r1 - m12 * r2) / det, (m11 * r2 - m12 * r1) / det};
+  return std::isfinite(du[0]) && std::isfinite(du[1]);
+}
+
+// Oriented L∞ distance of y from the candidate c in c's frame (eq. 7, measured in 3D).
+double linf(const Frame& c, const Vec3& y) {
+  const Vec3 d{y[0] - c.p[0], y[1] - c.p[1], y[2] - c.p[2]};
+  return std::max({std::abs(dot(d, c.d1)), std::abs(dot(d, c.d2)), std::abs(dot(d, c.n))});
+}
+
+}  // namespace
+
+FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoundary& b,
+                     const EdgePoints& points, const PackingOptions& opt) {
+  const int f = field.face();
+  const auto bounds = cad.uv_bounds(f);
+  const double tol_u = 1e-9 * (bounds[1] - bounds[0]), tol_v = 1e-9 * (bounds[3] - bounds[2]);
+  FacePoints out;
+  std::vector<Vec2> uv;  // every point: boundary first, then interior
+  std::vector<Vec3> xyz;
+  std::deque<int> queue;
+  std::vector<Vec3> singular;  // points of degenerate edges (poles, apexes): always checked
+  Tree tree;
+  const auto& ces = cad.coedges(f);
+  for (std::size_t i = 0; i < b.uv.size(); ++i) {
+    const int id = static_cast<int>(uv.size());
+    uv.push_back(b.uv[i]);
+    xyz.push_back(points.xyz[static_cast<std::size_t>(b.node[i])]);
+    tree.insert({BPoint(b.uv[i][0], b.uv[i][1]), id});
+    if (cad.edge_degenerate(ces[static_cast<std::size_t>(b.coedge[i])].edge)) {
+      singular.push_back(xyz.back());
+      continue;
+    }
+    queue.push_back(id);
+  }
+
+  std::vector<std::pair<BPoint, int>> hits;
+  const double k = opt.k;
+  while (!queue.empty()) {
+    const int i = queue.front();
+    queue.pop_front();
+    const Frame fr = field.frame(uv[static_cast<std::size_t>(i)]);
+    if (!fr.ok || !(fr.h > 0)) continue;
+    const Vec3 dirs[4] = {
+        fr.d1, fr.d2, {-fr.d1[0], -fr.d1[1], -fr.d1[2]}, {-fr.d2[0], -fr.d2[1], -fr.d2[2]}};
+    for (const Vec3& dir : dirs) {
+      ++out.candidates;
+      Vec2 du;
+      if (!parametric_step(fr, {dir[0] * fr.h, dir[1] * fr.h, dir[2] * fr.h}, du)) continue;
+      // Move along du until the chord from the spawning point is h long (the paper's
+      // circle-surface intersection, with the tangent-plane guess as the start).
+      const Vec2 u0 = uv[static_cast<std::size_t>(i)];
+      Vec2 uc{u0[0] + du[0], u0[1] + du[1]};
+      double s = 1;
+      for (int it = 0; it < 3; ++it) {
+        const Vec3 x = cad.point(f, uc);
+        const double dist =
+            std::sqrt((x[0] - fr.p[0]) * (x[0] - fr.p[0]) + (x[1] - fr.p[1]) * (x[1] - fr.p[1]) +
+                      (x[2] - fr.p[2]) * (x[2] - fr.p[2]));
+        if (!(dist > 0) || std::abs(dist / fr.h - 1) < 1e-3) break;
+        s *= std::clamp(fr.h / dist, 0.5, 2.0);
+        uc = {u0[0] + s * du[0], u0[1] + s * du[1]};
+      }
+      if (!std::isfinite(uc[0]) || !std::isfinite(uc[1])) continue;
+      if (uc[0] < bounds[0] - tol_u || uc[0] > bounds[1] + tol_u || uc[1] < bounds[2] - tol_v ||
+          uc[1] > bounds[3] + tol_v)
+        continue;
+      if (!cad.contains(f, uc)) continue;
+      const Frame fc = field.frame(uc);
+      if (!fc.ok || !(fc.h > 0)) continue;
+      const double r = k * fc.h;
+      Vec2 a, c;
+      if (!parametric_step(fc, {fc.d1[0] * r, fc.d1[1] * r, fc.d1[2] * r}, a) ||
+          !parametric_step(fc, {fc.d2[0] * r, fc.d2[1] * r, fc.d2[2] * r}, c))
+        continue;
+      // Box of the exclusion parallelogram, widened for the surface's curvature.
+      const double ex = 1.5 * (std::abs(a[0]) + std::abs(c[0])),
+                   ey = 1.5 * (std::abs(a[1]) + std::abs(c[1]));
+      hits.clear();
+      tree.query(
+          bgi::intersects(BBox(BPoint(uc[0] - ex, uc[1] - ey), BPoint(uc[0] + ex, uc[1] + ey))),
+          std::back_inserter(hits));
+      bool free = true;
+      for (const auto& [pt, j] : hits) {
+        if (linf(fc, xyz[static_cast<std::size_t>(j)]) < r) {
+          free = false;
+          break;
+        }
+      }
+      for (std::size_t q = 0; free && q < singular.size(); ++q)
+        if (linf(fc, singular[q]) < r) free = false;
+      if (!free) continue;
+      const int id = static_cast<int>(uv.size());
+      uv.push_back(uc);
+      xyz.push_back(fc.p);
+      tree.insert({BPoint(uc[0], uc[1]), id});
+      queue.push_back(id);
+      out.uv.push_back(uc);
+      out.xyz.push_back(fc.p);
+      if (opt.budget > 0 && out.uv.size() > opt.budget)
+        throw Error("face " + std::to_string(f) + ": point packing exceeded its budget of " +
+                    std::to_string(opt.budget) + " points (degenerate parametrisation?)");
+    }
+  }
+  return out;
+}
+
+}  // namespace hexfem

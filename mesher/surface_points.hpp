@@ -1,0 +1,34 @@
+// Stage 4: the packing of parallelograms (paper, "Surface meshing"). From the edge points, a
+// FIFO front: each point spawns four candidates at ±h d1, ±h d2 (first guess through the
+// metric tensor, eq. 2, then moved along that parametric direction until the 3D distance is
+// h); a candidate is kept when it is inside the trimmed face and no existing point lies within
+// k h of it in the L∞ distance oriented by the candidate's frame (eq. 7). Spatial search:
+// a Boost.Geometry R-tree queried with the axis-aligned box of the exclusion parallelogram.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "mesher/cad/cad_model.hpp"
+#include "mesher/cross_field.hpp"
+#include "mesher/edge_points.hpp"
+
+namespace hexfem {
+
+struct PackingOptions {
+  double k = 0.7;          // exclusion square half-side, in units of h
+  std::size_t budget = 0;  // most points this face may get (0 = unbounded)
+};
+
+// Interior points of one face, in the order they were inserted.
+struct FacePoints {
+  std::vector<Vec2> uv;
+  std::vector<Vec3> xyz;
+  std::size_t candidates = 0;  // candidates examined
+};
+
+// Throws hexfem::Error when the face needs more points than options.budget.
+FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoundary& boundary,
+                     const EdgePoints& points, const PackingOptions& options);
+
+}  // namespace hexfem

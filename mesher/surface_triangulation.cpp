@@ -1,0 +1,138 @@
+#include "mesher/surface_triangulation.hpp"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "mesher/cdt_domain.hpp"
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+struct VInfo {
+  int id = -1;  // local id (see FaceTriangles)
+};
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VInfo, K>;
+using Fb =
+    CGAL::Triangulation_face_base_with_info_2<int, K,
+                                              CGAL::Constrained_triangulation_face_base_2<K>>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using CDT =
+    CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::No_constraint_intersection_tag>;
+
+double angle(const Vec3& at, const Vec3& a, const Vec3& b) {
+  const Vec3 u{a[0] - at[0], a[1] - at[1], a[2] - at[2]},
+      v{b[0] - at[0], b[1] - at[1], b[2] - at[2]};
+  const double nu = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  const double nv = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!(nu > 0) || !(nv > 0)) return std::numbers::pi;
+  return std::acos(std::clamp((u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv), -1.0, 1.0));
+}
+
+}  // namespace
+
+FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& in,
+                               const EdgePoints& points, Vec2 scale) {
+  const int nb = static_cast<int>(b.uv.size());
+  auto xyz = [&](int id) -> const Vec3& {
+    return id < nb ? points.xyz[static_cast<std::size_t>(b.node[static_cast<std::size_t>(id)])]
+                   : in.xyz[static_cast<std::size_t>(id - nb)];
+  };
+  auto node_key = [&](int id) { return id < nb ? b.node[static_cast<std::size_t>(id)] : -1 - id; };
+
+  CDT cdt;
+  std::vector<CDT::Vertex_handle> handles(static_cast<std::size_t>(nb));
+  for (int i = 0; i < nb; ++i) {
+    const auto& p = b.uv[static_cast<std::size_t>(i)];
+    auto v = cdt.insert(CDT::Point(p[0] * scale[0], p[1] * scale[1]));
+    if (v->info().id >= 0 && node_key(v->info().id) != node_key(i))
+      throw Error("face " + std::to_string(f) +
+                  ": two boundary points coincide in the parameter plane");
+    if (v->info().id < 0) v->info().id = i;
+    handles[static_cast<std::size_t>(i)] = v;
+  }
+  try {
+    for (const auto& s : b.segments) {
+      auto va = handles[static_cast<std::size_t>(s[0])],
+           vb = handles[static_cast<std::size_t>(s[1])];
+      if (va != vb) cdt.insert_constraint(va, vb);
+    }
+  } catch (const std::exception&) {
+    throw Error("face " + std::to_string(f) +
+                ": its boundary segments cross in the parameter plane");
+  }
+  // Interior points; one falling on a vertex or a boundary segment would change the boundary
+  // shared with the neighbouring face, so it is left out.
+  CDT::Face_handle hint;
+  for (std::size_t j = 0; j < in.uv.size(); ++j) {
+    const CDT::Point p(in.uv[j][0] * scale[0], in.uv[j][1] * scale[1]);
+    CDT::Locate_type lt;
+    int li = 0;
+    CDT::Face_handle fh = cdt.locate(p, lt, li, hint);
+    if (lt == CDT::VERTEX || (lt == CDT::EDGE && cdt.is_constrained(CDT::Edge(fh, li)))) continue;
+    auto v = cdt.insert(p, lt, fh, li);
+    v->info().id = nb + static_cast<int>(j);
+    hint = v->face();
+  }
+  for (const auto& s : b.segments) {
+    auto va = handles[static_cast<std::size_t>(s[0])], vb = handles[static_cast<std::size_t>(s[1])];
+    if (va != vb && !cdt.is_edge(va, vb))
+      throw Error("face " + std::to_string(f) +
+                  ": a boundary segment was lost in the triangulation");
+  }
+  mark_nesting_levels(cdt);
+
+  // Flips toward the Delaunay criterion on the 3D triangles, kept only where the flipped pair
+  // stays valid in the parameter plane.
+  FaceTriangles out;
+  auto in_domain = [&](CDT::Face_handle fh) { return !cdt.is_infinite(fh) && fh->info() % 2 == 1; };
+  const std::size_t max_flips = 20 * static_cast<std::size_t>(cdt.number_of_faces()) + 100;
+  for (int pass = 0; pass < 50; ++pass) {
+    std::size_t flips = 0;
+    for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
+      if (!in_domain(fh)) continue;
+      for (int i = 0; i < 3; ++i) {
+        CDT::Face_handle g = fh->neighbor(i);
+        if (cdt.is_constrained(CDT::Edge(fh, i)) || !in_domain(g)) continue;
+        const auto vp = fh->vertex(i), ve1 = fh->vertex(CDT::ccw(i)), ve2 = fh->vertex(CDT::cw(i));
+        const auto vq = g->vertex(g->index(fh));
+        const Vec3 &p = xyz(vp->info().id), &q = xyz(vq->info().id);
+        const Vec3 &e1 = xyz(ve1->info().id), &e2 = xyz(ve2->info().id);
+        if (angle(p, e1, e2) + angle(q, e1, e2) <= std::numbers::pi + 1e-6) continue;
+        // Valid in the plane: e1 and e2 strictly on opposite sides of the new edge p-q.
+        if (CGAL::orientation(vp->point(), vq->point(), ve1->point()) != CGAL::RIGHT_TURN ||
+            CGAL::orientation(vp->point(), vq->point(), ve2->point()) != CGAL::LEFT_TURN)
+          continue;
+        CDT::Face_handle h = fh;
+        cdt.flip(h, i);
+        ++flips;
+        break;  // fh changed; move on
+      }
+    }
+    out.flips += flips;
+    if (flips == 0 || out.flips > max_flips) break;
+  }
+
+  out.interior_used.assign(in.uv.size(), false);
+  for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
+    if (!in_domain(fh)) continue;
+    std::array<int, 3> t{fh->vertex(0)->info().id, fh->vertex(1)->info().id,
+                         fh->vertex(2)->info().id};
+    const int k0 = node_key(t[0]), k1 = node_key(t[1]), k2 = node_key(t[2]);
+    if (k0 == k1 || k1 == k2 || k0 == k2) continue;  // collapsed on a pole or apex
+    for (int id : t)
+      if (id >= nb) out.interior_used[static_cast<std::size_t>(id - nb)] = true;
+    out.triangles.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace hexfem
