@@ -10,7 +10,7 @@ PACKAGES=(
   libocct-data-exchange-dev libtbb-dev
   libsuitesparse-dev libboost-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  calculix-ccx python3-meshio gmsh gnuplot-nox
+  calculix-ccx python3-meshio gmsh gnuplot-nox xvfb xauth
 )
 
 missing=()
