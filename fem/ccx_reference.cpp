@@ -94,41 +94,30 @@ void write_ccx_frequency_deck(std::ostream& out, const MixedMesh& mesh,
 
 CcxModalOutput parse_ccx_dat(std::istream& dat) {
   CcxModalOutput out;
-  enum { kNone, kEigen, kMass } block = kNone;
-  bool data = false;
+  // Blocks: eigenvalues (rows "mode eigenvalue ω f imag"), effective modal mass (rows "mode x y
+  // z rx ry rz", closed by a "TOTAL" row), total effective mass (one row "x y z rx ry rz").
+  enum { kNone, kEigen, kMass, kTotal } block = kNone;
   std::vector<double> v;
   for (std::string line; std::getline(dat, line);) {
     if (line.find("E I G E N V A L U E   O U T P U T") != std::string::npos) {
       block = kEigen;
-      data = false;
-      continue;
-    }
-    if (line.find("E F F E C T I V E   M O D A L   M A S S") != std::string::npos) {
+    } else if (line.find("E F F E C T I V E   M O D A L   M A S S") != std::string::npos) {
       block = kMass;
-      data = false;
-      continue;
-    }
-    if (block == kNone) continue;
-    if (block == kMass && line.find("TOTAL MASS") != std::string::npos) {
-      // "TOTAL MASS      value" (ccx repeats it per direction; all equal).
-      std::vector<double> t;
-      std::istringstream s(line.substr(line.find("TOTAL MASS") + 10));
-      double m;
-      while (s >> m) t.push_back(m);
-      if (!t.empty()) out.total_mass = t.front();
+    } else if (line.find("T O T A L   E F F E C T I V E   M A S S") != std::string::npos) {
+      block = kTotal;
+    } else if (line.find("P A R T I C I P A T I O N") != std::string::npos ||
+               line.find("TOTAL") != std::string::npos) {
       block = kNone;
-      continue;
-    }
-    if (numbers(line, v)) {
-      data = true;
+    } else if (block != kNone && numbers(line, v)) {
       if (block == kEigen && v.size() >= 4 && v[0] == static_cast<int>(v[0])) {
         out.eigenvalues.push_back(v[1]);
         out.frequencies.push_back(std::copysign(std::sqrt(std::abs(v[1])), v[1]) / (2 * M_PI));
       } else if (block == kMass && v.size() >= 4) {
         out.effective_mass.push_back({v[1], v[2], v[3]});
+      } else if (block == kTotal && v.size() >= 3) {
+        out.total_mass = v[0];
+        block = kNone;
       }
-    } else if (data && block == kEigen) {
-      block = kNone;  // the first non-numeric line after the table ends it
     }
   }
   if (out.eigenvalues.empty())

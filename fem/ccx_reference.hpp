@@ -26,7 +26,8 @@ struct CcxModalOutput {
   std::vector<double> eigenvalues;  // ω² as printed in E I G E N V A L U E   O U T P U T
   std::vector<double> frequencies;  // Hz, from the eigenvalues
   // Effective modal mass (x, y, z) per mode from E F F E C T I V E   M O D A L   M A S S, and
-  // the total mass printed after it (0 when absent).
+  // the x entry of T O T A L   E F F E C T I V E   M A S S: the mass the free DOFs carry (rᵀMr
+  // over free DOFs, less than ρV when DOFs are fixed); 0 when absent.
   std::vector<std::array<double, 3>> effective_mass;
   double total_mass = 0;
 };

@@ -30,9 +30,24 @@ class ShiftInvertOp {
  public:
   using Scalar = double;
 
-  ShiftInvertOp(const SparseMatrix& K, const SparseMatrix& M) : K_(K), M_(M) {}
-  Eigen::Index rows() const { return K_.rows(); }
-  Eigen::Index cols() const { return K_.cols(); }
+  ShiftInvertOp(const SparseMatrix& K, const SparseMatrix& M, bool preordered) : K_(K), M_(M) {
+#ifdef HEXFEM_HAVE_CHOLMOD
+    // One ordering, chosen here: CHOLMOD's default suite can settle for AMD, which on slender
+    // 3D meshes costs tens of times METIS's flops.
+    cholmod_common& cm = solver_.cholmod();
+    cm.nmethods = 1;
+    cm.method[0].ordering = preordered ? CHOLMOD_NATURAL : CHOLMOD_METIS;
+    cm.postorder = 1;
+#else
+    (void)preordered;
+#endif
+  }
+  Eigen::Index rows() const {
+    return K_.rows();
+  }
+  Eigen::Index cols() const {
+    return K_.cols();
+  }
 
   void set_shift(double sigma) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -45,6 +60,7 @@ class ShiftInvertOp {
                   "): the model is not positive definite after the shift");
 #ifdef HEXFEM_HAVE_CHOLMOD
     factor_nnz_ = static_cast<long>(solver_.cholmod().lnz);
+    factor_flops_ = solver_.cholmod().fl;
 #else
     factor_nnz_ = static_cast<long>(solver_.matrixL().nestedExpression().nonZeros());
 #endif
@@ -61,6 +77,9 @@ class ShiftInvertOp {
   long factor_nnz() const {
     return factor_nnz_;
   }
+  double factor_flops() const {
+    return factor_flops_;
+  }
   double factor_seconds() const {
     return factor_seconds_;
   }
@@ -75,8 +94,44 @@ class ShiftInvertOp {
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> solver_;
 #endif
   long factor_nnz_ = 0;
+  double factor_flops_ = 0;
   double factor_seconds_ = 0;
 };
+
+#ifdef HEXFEM_HAVE_CHOLMOD
+// METIS nested dissection of the node graph: 3x fewer vertices and 9x fewer edges than the DOF
+// graph, so ordering costs a fraction of CHOLMOD's own METIS call on K, for the same fill (the 3
+// DOFs of a node are interchangeable). Empty on failure: CHOLMOD then orders K itself.
+std::vector<std::int32_t> fill_reducing_node_order(const MixedMesh& mesh) {
+  const NodeGraph g = node_graph(mesh);
+  const long n = static_cast<long>(mesh.nodes.size());
+  cholmod_common cm;
+  cholmod_l_start(&cm);
+  cm.print = 0;
+  std::vector<std::int32_t> order;
+  // Upper triangle (stype 1), column j: neighbours i < j then the diagonal, sorted.
+  long nnz = n;
+  for (long j = 0; j < n; ++j)
+    for (long p = g.ptr[j]; p < g.ptr[j + 1] && g.adj[p] < j; ++p) ++nnz;
+  cholmod_sparse* A = cholmod_l_allocate_sparse(n, n, nnz, 1, 1, 1, CHOLMOD_PATTERN, &cm);
+  if (A) {
+    auto* ap = static_cast<SuiteSparse_long*>(A->p);
+    auto* ai = static_cast<SuiteSparse_long*>(A->i);
+    long k = 0;
+    for (long j = 0; j < n; ++j) {
+      ap[j] = k;
+      for (long p = g.ptr[j]; p < g.ptr[j + 1] && g.adj[p] < j; ++p) ai[k++] = g.adj[p];
+      ai[k++] = j;
+    }
+    ap[n] = k;
+    std::vector<SuiteSparse_long> perm(n);
+    if (cholmod_l_metis(A, nullptr, 0, 1, perm.data(), &cm)) order.assign(perm.begin(), perm.end());
+    cholmod_l_free_sparse(&A, &cm);
+  }
+  cholmod_l_finish(&cm);
+  return order;
+}
+#endif
 
 }  // namespace
 
@@ -98,10 +153,11 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
   EigenResult res;
   res.sigma = -options.shift_fraction * lambda_max;
 
-  ShiftInvertOp op(K, M);
+  ShiftInvertOp op(K, M, options.preordered);
   using BOp = Spectra::SparseSymMatProd<double, Eigen::Lower, Eigen::ColMajor, long>;
   BOp bop(M);
-  const long ncv = std::min(n, std::max(2 * nev + 1, nev + 20));
+  const long ncv =
+      options.ncv > nev ? std::min<long>(n, options.ncv) : std::min(n, std::max(2 * nev + 1, 20L));
   const auto t0 = std::chrono::steady_clock::now();
   Spectra::SymGEigsShiftSolver<ShiftInvertOp, BOp, Spectra::GEigsMode::ShiftInvert> eigs(
       op, bop, nev, ncv, res.sigma);
@@ -114,6 +170,7 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
   res.factor_seconds = op.factor_seconds();
   res.solve_seconds = seconds_since(t0) - res.factor_seconds;
   res.factor_nnz = op.factor_nnz();
+  res.factor_flops = op.factor_flops();
   res.iterations = eigs.num_iterations();
   res.operations = eigs.num_operations();
   res.eigenvalues = eigs.eigenvalues();
@@ -146,7 +203,14 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
 
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<std::uint8_t> fixed = select_fixed_dofs(mesh, options.fix);
-  const DofMap dofs = number_free_dofs(mesh, fixed);
+  const auto t_order = std::chrono::steady_clock::now();
+#ifdef HEXFEM_HAVE_CHOLMOD
+  const std::vector<std::int32_t> order = fill_reducing_node_order(mesh);
+#else
+  const std::vector<std::int32_t> order;  // SimplicialLDLT orders by itself (AMD)
+#endif
+  const double order_seconds = seconds_since(t_order);
+  const DofMap dofs = number_free_dofs(mesh, fixed, order);
   if (dofs.num_free == 0) throw Error("every DOF is fixed: nothing to analyse");
   if (options.num_modes >= dofs.num_free)
     throw Error("requested " + std::to_string(options.num_modes) +
@@ -154,7 +218,8 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
   const SystemMatrices sys = assemble_system(mesh, options.material, dofs, options.length_scale);
 
   ModalResult out;
-  out.assemble_seconds = seconds_since(t0);
+  out.assemble_seconds = seconds_since(t0) - order_seconds;
+  out.order_seconds = order_seconds;
   out.total_mass = sys.mass;
   out.volume = sys.volume;
   out.num_free_dofs = dofs.num_free;
@@ -164,6 +229,7 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
 
   EigenOptions eo = options.eigen;
   eo.num_modes = options.num_modes;
+  eo.preordered = !order.empty();
   out.eigen = solve_eigen(sys.K, sys.M, eo);
   const Eigen::MatrixXd& phi = out.eigen.vectors;
   const long k = phi.cols();
@@ -175,6 +241,7 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
     for (std::size_t v = 0; v < mesh.nodes.size(); ++v)
       if (dofs.dof[3 * v + d] >= 0) r[dofs.dof[3 * v + d]] = 1;
     const Eigen::VectorXd mr = sys.M.selfadjointView<Eigen::Lower>() * r;
+    out.free_mass[d] = r.dot(mr);
     const Eigen::VectorXd gamma = phi.transpose() * mr;
     out.effective_mass_fraction.col(d) = gamma.array().square() / sys.mass;
   }

@@ -19,15 +19,21 @@ struct EigenOptions {
   // definite for free structures (rigid-body modes come out near zero) and far enough below the
   // elastic spectrum of any practical mesh not to slow the iteration.
   double shift_fraction = 1e-8;
+  // K and M are already in a fill-reducing order (solve_modal numbers the DOFs that way);
+  // otherwise CHOLMOD orders them with METIS.
+  bool preordered = false;
+  // Lanczos basis size; 0 = automatic (see solve_eigen).
+  int ncv = 0;
 };
 
 struct EigenResult {
   Eigen::VectorXd eigenvalues;  // ω² ascending [rad²/s²]
   Eigen::MatrixXd vectors;      // free DOFs x modes, M-orthonormal
   double sigma = 0;
-  long factor_nnz = 0;  // entries of the Cholesky factor
-  long iterations = 0;  // Lanczos restarts
-  long operations = 0;  // applications of (K - σM)^-1
+  long factor_nnz = 0;      // entries of the Cholesky factor
+  double factor_flops = 0;  // CHOLMOD's flop count of the factorization
+  long iterations = 0;      // Lanczos restarts
+  long operations = 0;      // applications of (K - σM)^-1
   double factor_seconds = 0, solve_seconds = 0;
   double max_residual = 0;  // max over modes of |Kφ - λMφ| / (|Kφ| + |λ||Mφ|)
 };
@@ -50,12 +56,16 @@ struct ModalResult {
   Eigen::MatrixXd modes;            // 3*nodes x modes, M-orthonormal, zero at fixed DOFs
   // Effective modal mass fraction per mode and direction (x,y,z): (φᵀ M r_d)² / total mass.
   Eigen::MatrixXd effective_mass_fraction;
-  double total_mass = 0;  // kg
-  double volume = 0;      // m³
+  double total_mass = 0;  // kg, ρ·V of the whole mesh
+  // r_dᵀ M r_d over the free DOFs per direction: what all modes together can reach (= total_mass
+  // for a free structure, less when DOFs are fixed).
+  double free_mass[3] = {0, 0, 0};
+  double volume = 0;  // m³
   long num_free_dofs = 0, num_fixed_dofs = 0;
   long num_cells = 0, num_nodes = 0;
-  double assemble_seconds = 0;
-  EigenResult eigen;  // solver figures (vectors moved into `modes`)
+  double order_seconds = 0;     // fill-reducing order of the nodes
+  double assemble_seconds = 0;  // DOF selection and numbering, K and M
+  EigenResult eigen;            // solver figures (vectors moved into `modes`)
 };
 
 // Checks the input (material, cells, inverted cells, fixed-DOF selection, mode count), then
