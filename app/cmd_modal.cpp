@@ -1,0 +1,213 @@
+// `hexfem modal mesh.msh --fix SPEC... [--material steel | --E --nu --rho] [--modes 10]
+//  [--units SI|mm] [--json] [--modes-out modes.vtu]`: natural frequencies of a meshed solid.
+// The reusable parts live in fem/ (solve_modal, select_fixed_nodes); this file only reads the
+// mesh, states units and material, and prints.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "app/command_registry.hpp"
+#include "fem/boundary.hpp"
+#include "fem/material.hpp"
+#include "fem/modal_solver.hpp"
+#include "fem/mode_shapes_vtu.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/mesh_io.hpp"
+
+namespace hexfem {
+namespace {
+
+struct Args {
+  std::string mesh;
+  std::vector<std::string> fix;
+  bool free = false;
+  std::string material = "steel";
+  double E = NAN, nu = NAN, rho = NAN;
+  int modes = 10;
+  std::string units = "SI";
+  bool json = false;
+  std::string modes_out;
+};
+
+struct Units {
+  std::string name;  // "SI" or "mm"
+  double scale;      // mesh coordinate * scale = metres
+};
+
+Units parse_units(const std::string& u) {
+  if (u == "SI" || u == "si" || u == "m") return {"SI", 1.0};
+  if (u == "mm") return {"mm", 1e-3};
+  throw Error("--units must be SI (metres) or mm, got '" + u + "'");
+}
+
+// Plausibility of the length unit: a part of tens of metres in "SI" is most likely in mm.
+std::vector<std::string> unit_warnings(const MixedMesh& mesh, const Units& units) {
+  double extent = 0;
+  for (int a = 0; a < 3; ++a) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Vec3& p : mesh.nodes) {
+      lo = std::min(lo, p[a]);
+      hi = std::max(hi, p[a]);
+    }
+    if (hi > lo) extent = std::max(extent, hi - lo);
+  }
+  const double metres = extent * units.scale;
+  std::vector<std::string> w;
+  char buf[240];
+  if (units.name == "SI" && metres > 10) {
+    std::snprintf(buf, sizeof buf,
+                  "the mesh spans %.4g m with --units SI; if its coordinates are millimetres, "
+                  "use --units mm",
+                  metres);
+    w.push_back(buf);
+  } else if (units.name == "mm" && metres < 1e-4) {
+    std::snprintf(buf, sizeof buf,
+                  "the mesh spans %.4g mm with --units mm; if its coordinates are metres, use "
+                  "--units SI",
+                  extent);
+    w.push_back(buf);
+  }
+  return w;
+}
+
+int run(const Args& a) {
+  const Units units = parse_units(a.units);
+  if (a.fix.empty() && !a.free)
+    throw Error(
+        "no boundary condition: give --fix (e.g. --fix face:1 or --fix \"x<0.001\") or "
+        "--free for a free-free analysis");
+  if (!a.fix.empty() && a.free) throw Error("--free and --fix exclude each other");
+  Material mat = material_by_name(a.material);
+  if (!std::isnan(a.E) || !std::isnan(a.nu) || !std::isnan(a.rho)) mat.name += " (modified)";
+  if (!std::isnan(a.E)) mat.E = a.E;
+  if (!std::isnan(a.nu)) mat.nu = a.nu;
+  if (!std::isnan(a.rho)) mat.rho = a.rho;
+  validate(mat);
+  if (a.modes < 1) throw Error("--modes must be at least 1 (got " + std::to_string(a.modes) + ")");
+
+  const MixedMesh mesh = read_mesh(a.mesh);
+  std::vector<std::string> warnings = unit_warnings(mesh, units);
+  std::vector<std::size_t> fixed_nodes;
+  for (const std::string& spec : a.fix)
+    fixed_nodes.push_back(select_fixed_nodes(mesh, spec).nodes.size());
+
+  ModalOptions opt;
+  opt.material = mat;
+  opt.fix = a.fix;
+  opt.num_modes = a.modes;
+  opt.length_scale = units.scale;
+  const ModalResult r = solve_modal(mesh, opt);
+
+  // Rigid-body modes left although DOFs are fixed: legitimate for partial supports (NAFEMS
+  // FV52), a mistake otherwise; say so either way.
+  int rigid = 0;
+  const double lam_max = r.eigenvalues.back();
+  for (double lam : r.eigenvalues) rigid += std::abs(lam) < 1e-8 * std::abs(lam_max);
+  if (!a.fix.empty() && rigid > 0)
+    warnings.push_back(std::to_string(rigid) +
+                       " rigid-body mode(s) left: the fixed DOFs do not hold the part in every "
+                       "direction");
+  if (!a.modes_out.empty()) write_mode_shapes_vtu(mesh, r, a.modes_out);
+
+  std::size_t count[kNumCellKinds] = {};
+  for (CellKind k : mesh.cell_kind) ++count[static_cast<int>(k)];
+  if (a.json) {
+    nlohmann::json j;
+    j["mesh"] = {{"file", a.mesh},
+                 {"nodes", mesh.nodes.size()},
+                 {"cells", mesh.num_cells()},
+                 {"nc_quad_faces", mesh.nc_cell.size()}};
+    for (int k = 0; k < kNumCellKinds; ++k) j["mesh"][kind_name(CellKind(k))] = count[k];
+    j["units"] = {{"length", units.name == "SI" ? "m" : "mm"},
+                  {"scale_to_m", units.scale},
+                  {"material", "SI (Pa, kg/m^3)"},
+                  {"frequency", "Hz"}};
+    j["material"] = {{"name", mat.name}, {"E", mat.E}, {"nu", mat.nu}, {"rho", mat.rho}};
+    j["fix"] = a.fix;
+    j["fixed_dofs"] = r.num_fixed_dofs;
+    j["free_dofs"] = r.num_free_dofs;
+    j["mass_kg"] = r.total_mass;
+    j["volume_m3"] = r.volume;
+    j["modes"] = nlohmann::json::array();
+    for (std::size_t m = 0; m < r.frequencies.size(); ++m)
+      j["modes"].push_back({{"mode", m + 1},
+                            {"frequency_hz", r.frequencies[m]},
+                            {"eigenvalue", r.eigenvalues[m]},
+                            {"effective_mass_fraction",
+                             {r.effective_mass_fraction(m, 0), r.effective_mass_fraction(m, 1),
+                              r.effective_mass_fraction(m, 2)}}});
+    j["solver"] = {{"order_s", r.order_seconds},          {"assemble_s", r.assemble_seconds},
+                   {"factor_s", r.eigen.factor_seconds},  {"lanczos_s", r.eigen.solve_seconds},
+                   {"factor_nnz", r.eigen.factor_nnz},    {"shift", r.eigen.sigma},
+                   {"max_residual", r.eigen.max_residual}};
+    j["warnings"] = warnings;
+    if (!a.modes_out.empty()) j["modes_out"] = a.modes_out;
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+
+  for (const std::string& w : warnings) std::fprintf(stderr, "hexfem: warning: %s\n", w.c_str());
+  std::printf("mesh      %s: %zu nodes, %zu cells (", a.mesh.c_str(), mesh.nodes.size(),
+              mesh.num_cells());
+  bool first = true;
+  for (int k = kNumCellKinds - 1; k >= 0; --k)
+    if (count[k]) {
+      std::printf("%s%s %zu", first ? "" : ", ", kind_name(CellKind(k)), count[k]);
+      first = false;
+    }
+  std::printf("), %zu non-conformal quad faces\n", mesh.nc_cell.size());
+  std::printf("units     lengths in %s (x %g -> m), material in SI, frequencies in Hz\n",
+              units.name == "SI" ? "m" : "mm", units.scale);
+  std::printf("material  %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", mat.name.c_str(), mat.E,
+              mat.nu, mat.rho);
+  if (a.fix.empty()) std::printf("boundary  free-free (six rigid-body modes expected near 0 Hz)\n");
+  for (std::size_t i = 0; i < a.fix.size(); ++i)
+    std::printf("boundary  --fix %s: %zu nodes\n", a.fix[i].c_str(), fixed_nodes[i]);
+  std::printf("model     %ld free DOFs, %ld fixed; mass %.6g kg, volume %.6g m^3\n",
+              r.num_free_dofs, r.num_fixed_dofs, r.total_mass, r.volume);
+  std::printf("solver    order %.2f s, assembly %.2f s, factorization %.2f s, Lanczos %.2f s\n\n",
+              r.order_seconds, r.assemble_seconds, r.eigen.factor_seconds, r.eigen.solve_seconds);
+  std::printf("mode  frequency [Hz]   effective mass [%% of total]\n");
+  std::printf("                          x         y         z\n");
+  double sum[3] = {0, 0, 0};
+  for (std::size_t m = 0; m < r.frequencies.size(); ++m) {
+    std::printf("%4zu  %14.6g  %8.3f  %8.3f  %8.3f\n", m + 1, r.frequencies[m],
+                100 * r.effective_mass_fraction(m, 0), 100 * r.effective_mass_fraction(m, 1),
+                100 * r.effective_mass_fraction(m, 2));
+    for (int d = 0; d < 3; ++d) sum[d] += r.effective_mass_fraction(m, d);
+  }
+  std::printf(" sum  %14s  %8.3f  %8.3f  %8.3f   (free DOFs carry %.3f / %.3f / %.3f)\n", "",
+              100 * sum[0], 100 * sum[1], 100 * sum[2], 100 * r.free_mass[0] / r.total_mass,
+              100 * r.free_mass[1] / r.total_mass, 100 * r.free_mass[2] / r.total_mass);
+  if (!a.modes_out.empty()) std::printf("\nmode shapes written to %s\n", a.modes_out.c_str());
+  return 0;
+}
+
+RegisterCommand reg{
+    {"modal", "Natural frequencies and mode shapes of a meshed solid (linear elasticity)",
+     [](CLI::App& sub) {
+       auto a = std::make_shared<Args>();
+       sub.add_option("mesh", a->mesh, "volume mesh (.msh)")->required();
+       sub.add_option("--fix", a->fix,
+                      "fixed DOFs, repeatable: face:3,7 | group:NAME | \"x<0.001\" | "
+                      "\"z<1e-3&x>9.99\"; append @xyz to fix only some components "
+                      "(coordinates in the mesh's units)");
+       sub.add_flag("--free", a->free, "free-free analysis (no fixed DOF)");
+       sub.add_option("--material", a->material, "steel | aluminium | titanium (default steel)");
+       sub.add_option("--E", a->E, "Young's modulus [Pa], overrides the material's");
+       sub.add_option("--nu", a->nu, "Poisson's ratio, overrides the material's");
+       sub.add_option("--rho", a->rho, "density [kg/m^3], overrides the material's");
+       sub.add_option("--modes", a->modes, "number of modes (default 10)");
+       sub.add_option("--units", a->units, "length unit of the mesh: SI (m, default) or mm");
+       sub.add_flag("--json", a->json, "print JSON on stdout");
+       sub.add_option("--modes-out", a->modes_out, "write mode shapes to this .vtu (ParaView)");
+       return [a] { return run(*a); };
+     }}};
+
+}  // namespace
+}  // namespace hexfem
