@@ -205,13 +205,31 @@ VolumePoints random_points(const SurfaceMesh& surface, const FrameField3D& field
   return out;
 }
 
+// Moves point i by up to `amount` (relative to its size) in a pseudo-random direction that
+// depends only on i (deterministic).
+void jitter_points(VolumePoints& vp, const FrameField3D& field, double amount) {
+  if (amount <= 0) return;
+  for (std::size_t i = 0; i < vp.points.size(); ++i) {
+    SplitMix rng{0x5EED0000ull + i};
+    const double h = field.vertex_size(field.nearest_vertex(vp.points[i]));
+    for (int a = 0; a < 3; ++a) vp.points[i][a] += amount * h * (2 * rng.uniform() - 1);
+  }
+}
+
 }  // namespace
 
 VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D& field,
                                   const SolidLocator& locator, const VolumePointsOptions& options) {
   if (!(options.k > 0 && options.k < 1))
     throw Error("volume points: k must be in (0, 1), got " + std::to_string(options.k));
-  if (!options.random) return frontal(surface, field, locator, options.k);
+  if (!(options.jitter >= 0 && options.jitter < 0.01))
+    throw Error("volume points: jitter must be in [0, 0.01), got " +
+                std::to_string(options.jitter));
+  if (!options.random) {
+    VolumePoints out = frontal(surface, field, locator, options.k);
+    jitter_points(out, field, options.jitter);
+    return out;
+  }
   std::size_t target = options.random_count;
   std::size_t frontal_count = 0;
   if (target == 0) {
@@ -220,6 +238,7 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   }
   VolumePoints out = random_points(surface, field, locator, options.k, target, options.seed);
   out.frontal_count = frontal_count;
+  jitter_points(out, field, options.jitter);
   return out;
 }
 

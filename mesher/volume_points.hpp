@@ -19,6 +19,10 @@ struct VolumePointsOptions {
   bool random = false;           // random points at the frontal density instead (for the study)
   std::uint64_t seed = 1;        // random mode only
   std::size_t random_count = 0;  // random mode: points wanted (0: as many as the frontal run)
+  // Each point is finally moved by up to jitter*h in a direction drawn from its index. A
+  // lattice of co-spherical points makes TetGen's exact predicates several times slower, but
+  // jitter also breaks cubes into more slivers and costs hexes: off by default.
+  double jitter = 0;
 };
 
 struct VolumePoints {

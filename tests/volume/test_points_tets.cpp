@@ -87,6 +87,17 @@ TEST(VolumePoints, FrontalFillsTheBoxLattice) {
   }
   EXPECT_EQ(seen.size(), vp.points.size());
   for (int sid : vp.solid) EXPECT_EQ(sid, 1);
+  // Jitter moves each point by at most jitter * h per coordinate.
+  VolumePointsOptions jo;
+  jo.jitter = 1e-6;
+  const VolumePoints jittered = insert_volume_points(s, field, loc, jo);
+  ASSERT_EQ(jittered.points.size(), vp.points.size());
+  double most = 0;
+  for (std::size_t i = 0; i < vp.points.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      most = std::max(most, std::abs(jittered.points[i][a] - vp.points[i][a]));
+  EXPECT_GT(most, 0.0);
+  EXPECT_LE(most, 1e-6 * 0.25);
 }
 
 TEST(VolumePoints, RandomModeMatchesTheFrontalCountAndStaysInside) {

@@ -1,0 +1,405 @@
+#include "mesher/recombine_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/quality.hpp"
+
+namespace hexfem {
+
+TriKey tri_key(std::int32_t a, std::int32_t b, std::int32_t c) {
+  if (a > b) std::swap(a, b);
+  if (b > c) std::swap(b, c);
+  if (a > b) std::swap(a, b);
+  return {{a, b, c}};
+}
+
+namespace {
+
+Vec3 sub(const Vec3& a, const Vec3& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+
+// Local edges of each kind (corner pairs), from its corner table.
+struct EdgeList {
+  int count = 0;
+  std::array<std::array<int, 2>, 12> e{};
+};
+EdgeList edges_of(CellKind kind) {
+  EdgeList out;
+  const CellFaces cf = faces_of(kind);
+  for (int f = 0; f < cf.count; ++f) {
+    const LocalFace& lf = cf.face[f];
+    for (int i = 0; i < lf.n; ++i) {
+      int a = lf.v[i], b = lf.v[(i + 1) % lf.n];
+      if (a > b) std::swap(a, b);
+      bool seen = false;
+      for (int k = 0; k < out.count; ++k) seen = seen || (out.e[k][0] == a && out.e[k][1] == b);
+      if (!seen) out.e[out.count++] = {a, b};
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+double corner_jacobian(const Vec3& o, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e1 = sub(a, o), e2 = sub(b, o), e3 = sub(c, o);
+  const double det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) -
+                     e1[1] * (e2[0] * e3[2] - e2[2] * e3[0]) +
+                     e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]);
+  const double len = std::sqrt((e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]) *
+                               (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]) *
+                               (e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2]));
+  return len > 0 ? det / len : 0.0;
+}
+
+TetTopology::TetTopology(const TetMesh& tets, const SurfaceMesh& surface) : mesh_(tets) {
+  const std::size_t nv = tets.nodes.size(), nt = tets.tets.size();
+  // Star: counting sort by vertex keeps tets in increasing order around each vertex.
+  star_off_.assign(nv + 1, 0);
+  for (const auto& T : tets.tets)
+    for (std::int32_t v : T) ++star_off_[v + 1];
+  for (std::size_t v = 0; v < nv; ++v) star_off_[v + 1] += star_off_[v];
+  star_.resize(star_off_[nv]);
+  {
+    std::vector<std::int32_t> fill(star_off_.begin(), star_off_.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t)
+      for (std::int32_t v : tets.tets[t]) star_[fill[v]++] = static_cast<std::int32_t>(t);
+  }
+  // Neighbours: the other vertices of the star, sorted and unique.
+  adj_off_.assign(nv + 1, 0);
+  std::vector<std::int32_t> tmp;
+  for (std::size_t v = 0; v < nv; ++v) {
+    tmp.clear();
+    for (auto it = star_begin(v); it != star_end(v); ++it)
+      for (std::int32_t w : tets.tets[*it])
+        if (w != static_cast<std::int32_t>(v)) tmp.push_back(w);
+    std::sort(tmp.begin(), tmp.end());
+    tmp.erase(std::unique(tmp.begin(), tmp.end()), tmp.end());
+    adj_.insert(adj_.end(), tmp.begin(), tmp.end());
+    adj_off_[v + 1] = static_cast<std::int32_t>(adj_.size());
+  }
+  const MixedMesh& sm = surface.mesh;
+  num_surface_ = sm.nodes.size();
+  cad_face_ = sm.bface_cad_face;
+  surface_tri_.reserve(sm.num_bfaces());
+  for (std::size_t t = 0; t < sm.num_bfaces(); ++t)
+    surface_tri_.emplace(tri_key(sm.bface(t)[0], sm.bface(t)[1], sm.bface(t)[2]),
+                         static_cast<std::int32_t>(t));
+  tet_volume_.resize(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    Vec3 x[4];
+    for (int i = 0; i < 4; ++i) x[i] = tets.nodes[tets.tets[t][i]];
+    tet_volume_[t] = volume(CellKind::Tet4, x);
+  }
+}
+
+bool TetTopology::adjacent(std::int32_t a, std::int32_t b) const {
+  return std::binary_search(neighbours_begin(a), neighbours_end(a), b);
+}
+
+std::int32_t TetTopology::surface_triangle(std::int32_t a, std::int32_t b, std::int32_t c) const {
+  auto it = surface_tri_.find(tri_key(a, b, c));
+  return it == surface_tri_.end() ? -1 : it->second;
+}
+
+int face_sliver_of(CellKind kind, const std::int32_t* nodes, const std::array<std::int32_t, 4>& T) {
+  const CellFaces cf = faces_of(kind);
+  for (int f = 0; f < cf.count; ++f) {
+    const LocalFace& lf = cf.face[f];
+    if (lf.n != 4) continue;
+    int hits = 0;
+    for (std::int32_t w : T)
+      for (int i = 0; i < 4; ++i) hits += nodes[lf.v[i]] == w;
+    if (hits == 4) return f;
+  }
+  return -1;
+}
+
+bool is_face_sliver(CellKind kind, const std::int32_t* nodes,
+                    const std::array<std::int32_t, 4>& T) {
+  return face_sliver_of(kind, nodes, T) >= 0;
+}
+
+bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char>* used,
+                   const FillRules& rules, FillScratch& scratch) {
+  const TetMesh& m = topo.mesh();
+  const int nn = num_nodes(c.kind);
+  const std::int32_t* nodes = c.nodes.data();
+  // Local index of each node, valid for this call only (epoch-stamped).
+  if (scratch.mark.size() != m.nodes.size()) scratch.mark.assign(m.nodes.size(), 0);
+  const std::uint64_t epoch = ++scratch.epoch;
+  for (int i = 0; i < nn; ++i) scratch.mark[nodes[i]] = (epoch << 4) | static_cast<unsigned>(i);
+  auto local = [&](std::int32_t v) -> int {
+    const std::uint64_t mk = scratch.mark[v];
+    return (mk >> 4) == epoch ? static_cast<int>(mk & 15) : -1;
+  };
+  // Quad faces as masks of local corners.
+  const CellFaces cf = faces_of(c.kind);
+  unsigned face_mask[6];
+  for (int f = 0; f < cf.count; ++f) {
+    face_mask[f] = 0;
+    for (int i = 0; i < cf.face[f].n; ++i) face_mask[f] |= 1u << cf.face[f].v[i];
+  }
+  // The tets with all vertices among the nodes: any 4 of the nodes include one of the first
+  // nn - 3, so those nodes' stars hold them all; each is taken from its lowest local corner.
+  std::int32_t ts[8];
+  unsigned tmask[8];
+  int n = 0;
+  for (int i = 0; i < nn - 3; ++i) {
+    for (auto it = topo.star_begin(nodes[i]); it != topo.star_end(nodes[i]); ++it) {
+      const auto& T = m.tets[*it];
+      unsigned mask = 0;
+      bool inside = true;
+      for (int k = 0; k < 4 && inside; ++k) {
+        const int l = local(T[k]);
+        inside = l >= 0;
+        if (inside) mask |= 1u << l;
+      }
+      if (!inside || (mask & ((1u << i) - 1))) continue;
+      // A flat tet spanning the four corners of a quad face lies on the face, between its two
+      // diagonals (a sliver of a near-planar face): not part of the element.
+      bool sliver = false;
+      for (int f = 0; f < cf.count; ++f) sliver = sliver || mask == face_mask[f];
+      if (sliver) continue;
+      if (n == 7) return false;
+      tmask[n] = mask;
+      ts[n++] = *it;
+    }
+  }
+  const int min_tets = c.kind == CellKind::Hex8 ? 5 : c.kind == CellKind::Wedge6 ? 3 : 2;
+  if (n < min_tets) return false;
+  const std::int32_t solid = m.tet_solid[ts[0]];
+  for (int i = 0; i < n; ++i) {
+    if (m.tet_solid[ts[i]] != solid) return false;
+    if (used && (*used)[ts[i]]) return false;
+  }
+  // Faces used by exactly one tet bound the union; each must lie in a face of the element.
+  unsigned tri[28];
+  int nt = 0;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 8; ++k)
+      if (tmask[i] & (1u << k)) tri[nt++] = tmask[i] & ~(1u << k);
+  std::sort(tri, tri + nt);
+  unsigned bnd[28];
+  int nb = 0;
+  for (int i = 0; i < nt;) {
+    int j = i + 1;
+    while (j < nt && tri[j] == tri[i]) ++j;
+    if (j - i > 2) return false;
+    if (j - i == 1) bnd[nb++] = tri[i];
+    i = j;
+  }
+  int want = 0;
+  for (int f = 0; f < cf.count; ++f) want += cf.face[f].n == 4 ? 2 : 1;
+  if (nb != want) return false;
+  const auto num_surface = static_cast<std::int32_t>(topo.num_surface_nodes());
+  for (int f = 0; f < cf.count; ++f) {
+    const LocalFace& lf = cf.face[f];
+    unsigned in[2];
+    int covered = 0;
+    for (int b = 0; b < nb; ++b)
+      if ((bnd[b] & ~face_mask[f]) == 0) {
+        if (covered < 2) in[covered] = bnd[b];
+        ++covered;
+      }
+    if (covered != (lf.n == 4 ? 2 : 1)) return false;
+    if (lf.n == 3) continue;
+    // The two triangles split the quad along a diagonal: the corners they miss are opposite.
+    const unsigned miss0 = face_mask[f] & ~in[0], miss1 = face_mask[f] & ~in[1];
+    if (((miss0 | miss1) != ((1u << lf.v[0]) | (1u << lf.v[2]))) &&
+        ((miss0 | miss1) != ((1u << lf.v[1]) | (1u << lf.v[3]))))
+      return false;
+    // A quad face lies wholly inside, or wholly on one CAD face (never across a CAD edge).
+    bool may_be_surface = true;  // surface nodes come first in the tet mesh
+    for (int i = 0; i < 4; ++i) may_be_surface = may_be_surface && nodes[lf.v[i]] < num_surface;
+    if (!may_be_surface) continue;
+    std::int32_t st[2];
+    for (int k = 0; k < 2; ++k) {
+      std::int32_t v[3];
+      int nv = 0;
+      for (int i = 0; i < 8; ++i)
+        if (in[k] & (1u << i)) v[nv++] = nodes[i];
+      st[k] = topo.surface_triangle(v[0], v[1], v[2]);
+    }
+    if ((st[0] < 0) != (st[1] < 0)) return false;
+    if (st[0] >= 0 && topo.cad_face(st[0]) != topo.cad_face(st[1])) return false;
+  }
+  double tet_vol = 0;
+  for (int i = 0; i < n; ++i) tet_vol += topo.tet_volume(ts[i]);
+  Vec3 x[8];
+  for (int i = 0; i < nn; ++i) x[i] = m.nodes[nodes[i]];
+  // Each non-planar quad face can leave half the tet spanned by its corners as a gap (or
+  // overlap) against whatever lies across it; bound the sum against the element's volume.
+  double twist = 0;
+  for (int f = 0; f < cf.count; ++f) {
+    if (cf.face[f].n != 4) continue;
+    const auto& q = cf.face[f].v;
+    const Vec3 t[4] = {x[q[0]], x[q[1]], x[q[2]], x[q[3]]};
+    twist += 0.5 * std::abs(volume(CellKind::Tet4, t));
+  }
+  if (!(twist <= rules.max_face_twist * tet_vol)) return false;
+  const double v = volume(c.kind, x);
+  if (!(std::abs(v - tet_vol) <= rules.max_volume_gap * tet_vol)) return false;
+  for (int i = 0; i < 7; ++i) c.tets[i] = i < n ? ts[i] : -1;
+  return true;
+}
+
+int quad_diagonal(const TetTopology& topo, const Candidate& c, int local_face) {
+  // The 0-2 diagonal is used iff some tet of the element contains both of its ends.
+  const LocalFace lf = faces_of(c.kind).face[local_face];
+  const std::int32_t a = c.nodes[lf.v[0]], b = c.nodes[lf.v[2]];
+  for (std::int32_t t : c.tets) {
+    if (t < 0) break;
+    const auto& T = topo.mesh().tets[t];
+    const bool ha = T[0] == a || T[1] == a || T[2] == a || T[3] == a;
+    const bool hb = T[0] == b || T[1] == b || T[2] == b || T[3] == b;
+    if (ha && hb) return 0;
+  }
+  return 1;
+}
+
+namespace {
+
+// Calls visit(corners, n) for each face of c (corners in the face's order, n = 3 or 4).
+template <class Visit>
+void for_each_face(const Candidate& c, Visit visit) {
+  const CellFaces cf = faces_of(c.kind);
+  for (int f = 0; f < cf.count; ++f) {
+    const LocalFace& lf = cf.face[f];
+    std::int32_t q[4];
+    for (int i = 0; i < lf.n; ++i) q[i] = c.nodes[lf.v[i]];
+    visit(q, lf.n);
+  }
+}
+
+// The triple of quad q without corner `skip`.
+TriKey quad_triple(const std::int32_t* q, int skip) {
+  return tri_key(q[(skip + 1) % 4], q[(skip + 2) % 4], q[(skip + 3) % 4]);
+}
+
+}  // namespace
+
+bool ConformityIndex::conflicts(const Candidate& c) const {
+  bool bad = false;
+  for_each_face(c, [&](const std::int32_t* q, int n) {
+    if (bad) return;
+    if (n == 3) {
+      bad = quad_of_triple_.count(tri_key(q[0], q[1], q[2])) > 0;
+      return;
+    }
+    for (int skip = 0; skip < 4 && !bad; ++skip) {
+      const TriKey t = quad_triple(q, skip);
+      auto it = quad_of_triple_.find(t);
+      bad = (it != quad_of_triple_.end() && it->second != q[skip]) || triangle_faces_.count(t);
+    }
+    bad = bad || edges_.count(edge_key(q[0], q[2])) || edges_.count(edge_key(q[1], q[3]));
+  });
+  const EdgeList el = edges_of(c.kind);
+  for (int e = 0; e < el.count && !bad; ++e)
+    bad = diagonals_.count(edge_key(c.nodes[el.e[e][0]], c.nodes[el.e[e][1]])) > 0;
+  return bad;
+}
+
+void ConformityIndex::add(const Candidate& c) {
+  for_each_face(c, [&](const std::int32_t* q, int n) {
+    if (n == 3) {
+      triangle_faces_.insert(tri_key(q[0], q[1], q[2]));
+      return;
+    }
+    for (int skip = 0; skip < 4; ++skip) quad_of_triple_.emplace(quad_triple(q, skip), q[skip]);
+    diagonals_.insert(edge_key(q[0], q[2]));
+    diagonals_.insert(edge_key(q[1], q[3]));
+  });
+  const EdgeList el = edges_of(c.kind);
+  for (int e = 0; e < el.count; ++e)
+    edges_.insert(edge_key(c.nodes[el.e[e][0]], c.nodes[el.e[e][1]]));
+}
+
+std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find) {
+  std::vector<Candidate> all;
+#pragma omp parallel
+  {
+    std::vector<Candidate> local;
+    FillScratch scratch;
+#pragma omp for schedule(dynamic, 256) nowait
+    for (std::int32_t v = 0; v < num_vertices; ++v) find(v, scratch, local);
+#pragma omp critical
+    all.insert(all.end(), local.begin(), local.end());
+  }
+  std::sort(all.begin(), all.end());
+  return all;
+}
+
+QuadKey quad_key(const Candidate& e, int local_face) {
+  const LocalFace lf = faces_of(e.kind).face[local_face];
+  QuadKey k;
+  for (int i = 0; i < 4; ++i) k[i] = e.nodes[lf.v[i]];
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+std::vector<QuadKey> sorted_quad_keys(const std::vector<Candidate>& elements) {
+  std::vector<QuadKey> keys;
+  for (const Candidate& e : elements) {
+    const CellFaces cf = faces_of(e.kind);
+    for (int f = 0; f < cf.count; ++f)
+      if (cf.face[f].n == 4) keys.push_back(quad_key(e, f));
+  }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+bool quad_shared(const std::vector<QuadKey>& keys, const QuadKey& k) {
+  const auto range = std::equal_range(keys.begin(), keys.end(), k);
+  return range.second - range.first >= 2;
+}
+
+std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
+                                              const std::vector<Candidate>& elements,
+                                              std::vector<char>& used, SliverPolicy policy) {
+  const std::vector<QuadKey> quads = sorted_quad_keys(elements);
+  std::vector<std::int32_t> out;
+  for (const Candidate& e : elements) {
+    const CellFaces cf = faces_of(e.kind);
+    for (int f = 0; f < cf.count; ++f) {
+      const LocalFace& lf = cf.face[f];
+      if (lf.n != 4) continue;
+      const QuadKey k = quad_key(e, f);
+      const bool shared = quad_shared(quads, k);
+      for (auto it = topo.star_begin(k[0]); it != topo.star_end(k[0]); ++it) {
+        const auto& T = topo.mesh().tets[*it];
+        if (used[*it] || face_sliver_of(e.kind, e.nodes.data(), T) != f) continue;
+        if (policy == SliverPolicy::kSharedFaces && !shared) continue;
+        if (policy == SliverPolicy::kInvertedOnly) {
+          Vec3 x[4];
+          for (int i = 0; i < 4; ++i) x[i] = topo.mesh().nodes[T[i]];
+          if (min_scaled_jacobian(CellKind::Tet4, x) > 0) continue;
+        }
+        used[*it] = 1;
+        out.push_back(*it);
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<Candidate> place_greedily(std::vector<Candidate>& cands, std::vector<char>& used,
+                                      ConformityIndex& index) {
+  std::sort(cands.begin(), cands.end());
+  std::vector<Candidate> kept;
+  for (const Candidate& c : cands) {
+    bool free = true;
+    for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
+    if (!free || index.conflicts(c)) continue;
+    for (std::int32_t t : c.tets)
+      if (t >= 0) used[t] = 1;
+    index.add(c);
+    kept.push_back(c);
+  }
+  return kept;
+}
+
+}  // namespace hexfem

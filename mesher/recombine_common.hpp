@@ -1,0 +1,161 @@
+// What the recombination stages share: the tet mesh's adjacency, the test that a set of
+// vertices is exactly filled by tets forming a hex or a prism, and the conformity rules of the
+// paper (Figs 15-18) checked by hashing the faces, edges and diagonals of placed elements.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "mesher/surface_mesh.hpp"
+#include "mesher/tetrahedralize.hpp"
+
+namespace hexfem {
+
+// Sorted vertex triple, hashable.
+struct TriKey {
+  std::int32_t v[3];
+  bool operator==(const TriKey& o) const {
+    return v[0] == o.v[0] && v[1] == o.v[1] && v[2] == o.v[2];
+  }
+};
+TriKey tri_key(std::int32_t a, std::int32_t b, std::int32_t c);
+struct TriKeyHash {
+  std::size_t operator()(const TriKey& k) const {
+    std::uint64_t h = static_cast<std::uint32_t>(k.v[0]);
+    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.v[1]);
+    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.v[2]);
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+inline std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+         static_cast<std::uint32_t>(b);
+}
+
+// Adjacency of a tet mesh, plus where its faces lie on the surface.
+class TetTopology {
+ public:
+  TetTopology(const TetMesh& tets, const SurfaceMesh& surface);
+
+  const TetMesh& mesh() const { return mesh_; }
+  std::size_t num_vertices() const { return adj_off_.size() - 1; }
+  // Vertices 0 .. num_surface_nodes()-1 are the surface mesh's nodes.
+  std::size_t num_surface_nodes() const { return num_surface_; }
+  // Sorted neighbours of v (vertices sharing a tet edge) and the tets around v.
+  const std::int32_t* neighbours_begin(std::int32_t v) const { return &adj_[adj_off_[v]]; }
+  const std::int32_t* neighbours_end(std::int32_t v) const { return &adj_[adj_off_[v + 1]]; }
+  const std::int32_t* star_begin(std::int32_t v) const { return &star_[star_off_[v]]; }
+  const std::int32_t* star_end(std::int32_t v) const { return &star_[star_off_[v + 1]]; }
+  bool adjacent(std::int32_t a, std::int32_t b) const;
+  // Surface triangle index of triangle (a,b,c), -1 when it is not on the surface.
+  std::int32_t surface_triangle(std::int32_t a, std::int32_t b, std::int32_t c) const;
+  // CAD face of surface triangle t.
+  std::int32_t cad_face(std::int32_t t) const { return cad_face_[t]; }
+  double tet_volume(std::int32_t t) const { return tet_volume_[t]; }
+
+ private:
+  const TetMesh& mesh_;
+  std::size_t num_surface_ = 0;
+  std::vector<std::int32_t> adj_off_, adj_, star_off_, star_;
+  std::vector<std::int32_t> cad_face_;
+  std::unordered_map<TriKey, std::int32_t, TriKeyHash> surface_tri_;
+  std::vector<double> tet_volume_;
+};
+
+// A hex or prism made of tets (or a pyramid made of two).
+struct Candidate {
+  CellKind kind = CellKind::Hex8;
+  float quality = 0;                  // min scaled Jacobian (quality.hpp)
+  std::array<std::int32_t, 8> nodes;  // Gmsh order, unused slots -1
+  std::array<std::int32_t, 7> tets;   // unused slots -1
+  // Best first; ties by node ids, so the order never depends on how candidates were found.
+  bool operator<(const Candidate& o) const {
+    if (quality != o.quality) return quality > o.quality;
+    return nodes < o.nodes;
+  }
+};
+
+struct FillRules {
+  double max_volume_gap = 0.02;  // |V(element) - V(its tets)| / V(its tets) allowed
+  // Sum over quad faces of half the volume of the tet spanned by the face's corners (the most
+  // a non-planar face can open or overlap against tets across it), relative to V(its tets).
+  double max_face_twist = 0.2;
+};
+
+// True when the tets whose vertices all lie among `c.nodes` fill exactly the element c.kind
+// (every face covered by its triangles: quads by two, triangles by one); they are all in one
+// solid and (if `used` is given) all free; every quad face either lies inside the solid or has
+// both triangles on the same CAD face; and the element's volume matches the tets'. Fills
+// c.tets. c.nodes must be set and distinct.
+struct FillScratch {  // per-thread work memory of fills_element
+  std::vector<std::uint64_t> mark;
+  std::uint64_t epoch = 0;
+};
+bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char>* used,
+                   const FillRules& rules, FillScratch& scratch);
+
+// The quad face of an element (kind, nodes) whose four corners are the vertices of tet T (a
+// flat "sliver" lying on that face), or -1.
+int face_sliver_of(CellKind kind, const std::int32_t* nodes, const std::array<std::int32_t, 4>& T);
+bool is_face_sliver(CellKind kind, const std::int32_t* nodes, const std::array<std::int32_t, 4>& T);
+
+// Diagonal of quad face f (local face of kind) used by the tets of a filled element: the edge
+// the two triangles share, as a local (i, j) of the face's vertex list (0-2 or 1-3).
+// Returns 0 for the 0-2 diagonal, 1 for 1-3.
+int quad_diagonal(const TetTopology& topo, const Candidate& c, int local_face);
+
+// The conformity rules between hexes and prisms (paper Figs 15-18): no two elements share
+// three vertices of a quad face unless they share the whole quad; no triangle face of a prism
+// has three vertices of another element's quad; no edge of one is a diagonal of the other's quad.
+class ConformityIndex {
+ public:
+  bool conflicts(const Candidate& c) const;
+  void add(const Candidate& c);
+
+ private:
+  // Three vertices of a placed quad -> its fourth vertex.
+  std::unordered_map<TriKey, std::int32_t, TriKeyHash> quad_of_triple_;
+  std::unordered_set<TriKey, TriKeyHash> triangle_faces_;
+  std::unordered_set<std::uint64_t> edges_, diagonals_;
+};
+
+// Min scaled Jacobian of corner o with edges to a, b, c (no kind scaling).
+double corner_jacobian(const Vec3& o, const Vec3& a, const Vec3& b, const Vec3& c);
+
+// Free tets whose four vertices are the corners of a quad face of one of `elements`: flat
+// slivers between the face's two diagonals, which fills_element leaves out. Between two
+// elements sharing the face (kSharedFaces) such a sliver is covered by both bilinear faces and
+// belongs to them; against tets it stays a tet (it fills half the gap the bilinear face opens)
+// unless its Jacobian is not positive in floating point (kInvertedOnly). Absorbed slivers are
+// marked used and listed.
+enum class SliverPolicy { kSharedFaces, kInvertedOnly };
+std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
+                                              const std::vector<Candidate>& elements,
+                                              std::vector<char>& used, SliverPolicy policy);
+
+// Sorted keys (sorted corners) of every quad face of `elements`; a key listed twice is a face
+// two elements share.
+using QuadKey = std::array<std::int32_t, 4>;
+QuadKey quad_key(const Candidate& e, int local_face);
+std::vector<QuadKey> sorted_quad_keys(const std::vector<Candidate>& elements);
+bool quad_shared(const std::vector<QuadKey>& keys, const QuadKey& k);
+
+// Runs find(v, scratch, out) for every vertex on all threads and returns the candidates
+// sorted best first (the sort makes the result independent of the thread schedule).
+using FindCandidates =
+    std::function<void(std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out)>;
+std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find);
+
+// Greedy best-first placement: sorts `cands` and keeps each one whose tets are all free and that
+// breaks no conformity rule. Marks the tets used; returns the kept candidates in order.
+std::vector<Candidate> place_greedily(std::vector<Candidate>& cands, std::vector<char>& used,
+                                      ConformityIndex& index);
+
+}  // namespace hexfem

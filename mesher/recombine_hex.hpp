@@ -1,0 +1,23 @@
+// Recombination of tets into hexahedra (paper, "Yamakawa-Shimada's algorithm"; enumeration as
+// Pellerin, Johnen & Remacle 2017, "a vertex based strategy"): every hex whose 12 edges are tet
+// edges and whose 8 vertices span tets that fill it exactly, whatever the number (5, 6, 7) or
+// pattern of those tets, is found from its lowest vertex; candidates below a quality threshold
+// are dropped; the rest are placed best first when all their tets are free and the conformity
+// rules hold.
+#pragma once
+
+#include <vector>
+
+#include "mesher/recombine_common.hpp"
+
+namespace hexfem {
+
+struct HexOptions {
+  double min_quality = 0.3;  // hexes with a lower min scaled Jacobian are not candidates
+  FillRules fill;
+};
+
+// Every candidate hex (sorted best first, deterministic).
+std::vector<Candidate> enumerate_hexes(const TetTopology& topo, const HexOptions& options);
+
+}  // namespace hexfem

@@ -1,0 +1,175 @@
+#include "mesher/recombine_prism_pyramid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/quality.hpp"
+
+namespace hexfem {
+
+namespace {
+
+// Wedge corners (Gmsh order): 0:(1,2,3) 1:(2,0,4) 2:(0,1,5) 3:(5,4,0) 4:(3,5,1) 5:(4,3,2).
+// From lowest vertex v = p0, the labelling is unique (p3 is v's edge to the other triangle,
+// p1/p2 ordered by orientation), so each prism is found once.
+void prisms_from(const TetTopology& topo, const std::vector<char>& used, std::int32_t v,
+                 double qmin, const FillRules& rules, FillScratch& scratch,
+                 std::vector<Candidate>& out) {
+  bool any_free = false;
+  for (auto it = topo.star_begin(v); it != topo.star_end(v) && !any_free; ++it)
+    any_free = !used[*it];
+  if (!any_free) return;
+  const auto& X = topo.mesh().nodes;
+  // The wedge's ideal corner (60 degrees) has raw value sqrt(3)/2; quality.hpp scales it to 1.
+  const double raw_min = qmin * std::sqrt(3.0) / 2.0;
+  auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
+    return corner_jacobian(X[o], X[a], X[b], X[c]) >= raw_min;
+  };
+  const std::int32_t* ne = topo.neighbours_end(v);
+  const std::int32_t* gb = std::upper_bound(topo.neighbours_begin(v), ne, v);
+  for (const std::int32_t* i1 = gb; i1 != ne; ++i1) {
+    for (const std::int32_t* i2 = gb; i2 != ne; ++i2) {
+      const std::int32_t p1 = *i1, p2 = *i2;
+      if (p1 == p2 || !topo.adjacent(p1, p2)) continue;
+      for (const std::int32_t* i3 = gb; i3 != ne; ++i3) {
+        const std::int32_t p3 = *i3;
+        if (p3 == p1 || p3 == p2 || !ok(v, p1, p2, p3)) continue;
+        for (auto j4 = std::upper_bound(topo.neighbours_begin(p1), topo.neighbours_end(p1), v);
+             j4 != topo.neighbours_end(p1); ++j4) {
+          const std::int32_t p4 = *j4;
+          if (p4 == p2 || p4 == p3 || !topo.adjacent(p3, p4)) continue;
+          if (!topo.adjacent(v, p4) && !topo.adjacent(p1, p3)) continue;
+          if (!ok(p1, p2, v, p4)) continue;
+          for (auto j5 = std::upper_bound(topo.neighbours_begin(p2), topo.neighbours_end(p2), v);
+               j5 != topo.neighbours_end(p2); ++j5) {
+            const std::int32_t p5 = *j5;
+            if (p5 == p1 || p5 == p3 || p5 == p4) continue;
+            if (!topo.adjacent(p3, p5) || !topo.adjacent(p4, p5)) continue;
+            if (!ok(p2, v, p1, p5) || !ok(p3, p5, p4, v) || !ok(p4, p3, p5, p1) ||
+                !ok(p5, p4, p3, p2))
+              continue;
+            Candidate c;
+            c.kind = CellKind::Wedge6;
+            c.nodes = {v, p1, p2, p3, p4, p5, -1, -1};
+            if (!fills_element(topo, c, &used, rules, scratch)) continue;
+            Vec3 x[6];
+            for (int k = 0; k < 6; ++k) x[k] = X[c.nodes[k]];
+            c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Wedge6, x));
+            out.push_back(c);
+          }
+        }
+      }
+    }
+  }
+}
+
+// The tet other than those of `own` and `skip` that has triangle (a, b, c) as a face, or -1.
+std::int32_t tet_across(const TetTopology& topo, const Candidate& own, std::int32_t skip,
+                        std::int32_t a, std::int32_t b, std::int32_t c) {
+  for (auto it = topo.star_begin(a); it != topo.star_end(a); ++it) {
+    const std::int32_t t = *it;
+    if (t == skip || std::find(own.tets.begin(), own.tets.end(), t) != own.tets.end()) continue;
+    const auto& T = topo.mesh().tets[t];
+    const bool hb = T[0] == b || T[1] == b || T[2] == b || T[3] == b;
+    const bool hc = T[0] == c || T[1] == c || T[2] == c || T[3] == c;
+    if (hb && hc) return t;
+  }
+  return -1;
+}
+
+std::int32_t apex_of(const TetTopology& topo, std::int32_t t, std::int32_t a, std::int32_t b,
+                     std::int32_t c) {
+  for (std::int32_t w : topo.mesh().tets[t])
+    if (w != a && w != b && w != c) return w;
+  return -1;
+}
+
+}  // namespace
+
+std::vector<Candidate> enumerate_prisms(const TetTopology& topo, const std::vector<char>& used,
+                                        const PrismOptions& options) {
+  return collect_candidates(static_cast<std::int32_t>(topo.num_vertices()),
+                            [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
+                              prisms_from(topo, used, v, options.min_quality, options.fill, scratch,
+                                          out);
+                            });
+}
+
+std::vector<Candidate> enumerate_pyramids(const TetTopology& topo,
+                                          const std::vector<Candidate>& elements,
+                                          const std::vector<char>& used) {
+  // Quad faces used by two elements are conformal already.
+  const std::vector<QuadKey> quads = sorted_quad_keys(elements);
+  std::vector<Candidate> out;
+  const auto& X = topo.mesh().nodes;
+  for (const Candidate& e : elements) {
+    const CellFaces cf = faces_of(e.kind);
+    for (int f = 0; f < cf.count; ++f) {
+      const LocalFace& lf = cf.face[f];
+      if (lf.n != 4) continue;
+      std::array<std::int32_t, 4> q;
+      for (int i = 0; i < 4; ++i) q[i] = e.nodes[lf.v[i]];
+      if (quad_shared(quads, quad_key(e, f))) continue;
+      // The two triangles of the face, split along the diagonal the element's tets use; past a
+      // flat sliver on the face, along the other diagonal.
+      std::array<std::int32_t, 3> t1, t2;
+      auto split = [&](int diagonal) {
+        if (diagonal == 0) {
+          t1 = {q[0], q[1], q[2]};
+          t2 = {q[0], q[2], q[3]};
+        } else {
+          t1 = {q[0], q[1], q[3]};
+          t2 = {q[1], q[2], q[3]};
+        }
+      };
+      const int diagonal = quad_diagonal(topo, e, f);
+      split(diagonal);
+      if (topo.surface_triangle(t1[0], t1[1], t1[2]) >= 0) continue;  // a boundary quad
+      std::int32_t a = tet_across(topo, e, -1, t1[0], t1[1], t1[2]);
+      std::int32_t b = tet_across(topo, e, -1, t2[0], t2[1], t2[2]);
+      std::int32_t sliver = -1;
+      if (a >= 0 && a == b && face_sliver_of(e.kind, e.nodes.data(), topo.mesh().tets[a]) == f) {
+        sliver = a;  // the pyramid takes it: its bilinear base cuts it where the face does
+        if (used[sliver]) continue;
+        split(1 - diagonal);
+        a = tet_across(topo, e, sliver, t1[0], t1[1], t1[2]);
+        b = tet_across(topo, e, sliver, t2[0], t2[1], t2[2]);
+      }
+      if (a < 0 || b < 0 || a == b || used[a] || used[b]) continue;
+      if (topo.mesh().tet_solid[a] != topo.mesh().tet_solid[b]) continue;
+      const std::int32_t apex = apex_of(topo, a, t1[0], t1[1], t1[2]);
+      if (apex != apex_of(topo, b, t2[0], t2[1], t2[2])) continue;
+      // Base in the element's outward order: the pyramid's own base face (0,3,2,1) then points
+      // back into the element, i.e. out of the pyramid.
+      Candidate c;
+      c.kind = CellKind::Pyramid5;
+      c.nodes = {q[0], q[1], q[2], q[3], apex, -1, -1, -1};
+      c.tets = {std::min(a, b), std::max(a, b), sliver, -1, -1, -1, -1};
+      Vec3 x[5];
+      for (int i = 0; i < 5; ++i) x[i] = X[c.nodes[i]];
+      const double qual = min_scaled_jacobian(CellKind::Pyramid5, x);
+      if (!(qual > 0)) continue;
+      c.quality = static_cast<float>(qual);
+      out.push_back(c);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<Candidate> place_pyramids(std::vector<Candidate>& cands, std::vector<char>& used) {
+  std::sort(cands.begin(), cands.end());
+  std::vector<Candidate> kept;
+  for (const Candidate& c : cands) {
+    bool free = true;
+    for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
+    if (!free) continue;
+    for (std::int32_t t : c.tets)
+      if (t >= 0) used[t] = 1;
+    kept.push_back(c);
+  }
+  return kept;
+}
+
+}  // namespace hexfem

@@ -1,0 +1,262 @@
+#include "mesher/volume_pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "mesher/frame_field_3d.hpp"
+#include "mesher/mesh/conformity.hpp"
+#include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/mesh_stats.hpp"
+#include "mesher/recombine_hex.hpp"
+#include "mesher/recombine_prism_pyramid.hpp"
+#include "mesher/solid_locator.hpp"
+#include "mesher/tetrahedralize.hpp"
+#include "mesher/volume_points.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace hexfem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class StageTimer {
+ public:
+  explicit StageTimer(VolumeReport& r) : r_(r), start_(Clock::now()), last_(start_) {}
+  void stage(const char* name) {
+    const auto now = Clock::now();
+    r_.stages.push_back({name, std::chrono::duration<double>(now - last_).count()});
+    last_ = now;
+  }
+  void finish() { r_.total_seconds = std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+ private:
+  VolumeReport& r_;
+  Clock::time_point start_, last_;
+};
+
+// Cells, boundary faces (two surface triangles under a hex/prism quad become that quad, with the
+// CAD face they share) and NC flags.
+MixedMesh assemble(const SurfaceMesh& surface, const TetTopology& topo,
+                   const std::vector<Candidate>& elements, const std::vector<char>& used) {
+  const TetMesh& tm = topo.mesh();
+  const MixedMesh& sm = surface.mesh;
+  MixedMesh mesh;
+  mesh.nodes = tm.nodes;
+  mesh.physical_names = sm.physical_names;
+  for (const Candidate& e : elements)
+    mesh.add_cell(e.kind, e.nodes.data(), tm.tet_solid[e.tets[0]]);
+  for (std::size_t t = 0; t < tm.tets.size(); ++t)
+    if (!used[t]) mesh.add_cell(CellKind::Tet4, tm.tets[t].data(), tm.tet_solid[t]);
+  // Surface triangle -> the boundary quad (element, local face) covering it.
+  std::vector<std::array<std::int32_t, 2>> quad_of(sm.num_bfaces(), {-1, -1});
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const Candidate& e = elements[i];
+    if (e.kind == CellKind::Pyramid5) continue;
+    const CellFaces cf = faces_of(e.kind);
+    for (int f = 0; f < cf.count; ++f) {
+      const LocalFace& lf = cf.face[f];
+      if (lf.n != 4) continue;
+      std::int32_t q[4];
+      for (int k = 0; k < 4; ++k) q[k] = e.nodes[lf.v[k]];
+      const bool d02 = quad_diagonal(topo, e, f) == 0;
+      const std::int32_t t1 =
+          d02 ? topo.surface_triangle(q[0], q[1], q[2]) : topo.surface_triangle(q[0], q[1], q[3]);
+      const std::int32_t t2 =
+          d02 ? topo.surface_triangle(q[0], q[2], q[3]) : topo.surface_triangle(q[1], q[2], q[3]);
+      if (t1 < 0 || t2 < 0) continue;
+      quad_of[t1] = quad_of[t2] = {static_cast<std::int32_t>(i), f};
+    }
+  }
+  std::vector<char> emitted(elements.size() * 6, 0);
+  for (std::size_t t = 0; t < sm.num_bfaces(); ++t) {
+    const auto [e, f] = quad_of[t];
+    if (e < 0) {
+      mesh.add_bface(sm.bface(t)[0], sm.bface(t)[1], sm.bface(t)[2], -1, sm.bface_cad_face[t],
+                     sm.bface_physical.empty() ? 0 : sm.bface_physical[t]);
+      continue;
+    }
+    if (emitted[6 * e + f]) continue;
+    emitted[6 * e + f] = 1;
+    const LocalFace lf = faces_of(elements[e].kind).face[f];
+    const auto& n = elements[e].nodes;
+    mesh.add_bface(n[lf.v[0]], n[lf.v[1]], n[lf.v[2]], n[lf.v[3]], sm.bface_cad_face[t],
+                   sm.bface_physical.empty() ? 0 : sm.bface_physical[t]);
+  }
+  flag_nonconformal_quads(mesh);
+  return mesh;
+}
+
+}  // namespace
+
+MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options,
+                      VolumeReport* report) {
+  VolumeReport local;
+  VolumeReport& r = report ? *report : local;
+  r = VolumeReport{};
+#ifdef _OPENMP
+  r.threads = omp_get_max_threads();
+#endif
+  if (!(options.min_quality >= 0 && options.min_quality <= 1))
+    throw Error("min quality must be in [0, 1], got " + std::to_string(options.min_quality));
+  if (!(options.max_volume_gap > 0)) throw Error("the element volume tolerance must be positive");
+  StageTimer timer(r);
+
+  const FrameField3D field(surface);
+  const SolidLocator locator(surface);
+  timer.stage("frame field + locator");
+
+  VolumePointsOptions po;
+  po.k = options.k;
+  po.random = options.random_points;
+  po.seed = options.random_seed;
+  po.jitter = options.jitter;
+  const VolumePoints points = insert_volume_points(surface, field, locator, po);
+  r.surface_vertices = surface.mesh.nodes.size();
+  r.interior_points = points.points.size();
+  r.frontal_points = points.frontal_count;
+  timer.stage("volume points");
+
+  const TetMesh tets = tetrahedralize(surface, points.points, locator);
+  r.steiner_points = tets.steiner_points;
+  r.tets = tets.tets.size();
+  timer.stage("tetgen");
+
+  const TetTopology topo(tets, surface);
+  std::vector<char> used(tets.tets.size(), 0);
+  ConformityIndex index;
+  HexOptions ho;
+  ho.min_quality = options.min_quality;
+  ho.fill.max_volume_gap = options.max_volume_gap;
+  ho.fill.max_face_twist = options.max_face_twist;
+  std::vector<Candidate> cands = enumerate_hexes(topo, ho);
+  r.hex_candidates = cands.size();
+  std::vector<Candidate> elements = place_greedily(cands, used, index);
+  cands = {};
+  timer.stage("hexes");
+
+  if (!options.no_prisms) {
+    PrismOptions pr;
+    pr.min_quality = options.min_quality;
+    pr.fill.max_volume_gap = options.max_volume_gap;
+    pr.fill.max_face_twist = options.max_face_twist;
+    std::vector<Candidate> pc = enumerate_prisms(topo, used, pr);
+    r.prism_candidates = pc.size();
+    const auto kept = place_greedily(pc, used, index);
+    elements.insert(elements.end(), kept.begin(), kept.end());
+  }
+  r.absorbed_slivers = absorb_face_slivers(topo, elements, used, SliverPolicy::kSharedFaces).size();
+  timer.stage("prisms");
+
+  if (!options.no_pyramids) {
+    std::vector<Candidate> yc = enumerate_pyramids(topo, elements, used);
+    r.pyramid_candidates = yc.size();
+    const auto kept = place_pyramids(yc, used);
+    elements.insert(elements.end(), kept.begin(), kept.end());
+  }
+  r.absorbed_slivers +=
+      absorb_face_slivers(topo, elements, used, SliverPolicy::kInvertedOnly).size();
+  timer.stage("pyramids");
+
+  for (const Candidate& e : elements)
+    for (std::int32_t t : e.tets) r.tets_in_elements += t >= 0;
+  MixedMesh mesh = assemble(surface, topo, elements, used);
+  timer.stage("assembly + NC");
+
+  for (std::size_t t = 0; t < tets.tets.size(); ++t) r.volume_tets += topo.tet_volume(t);
+  const MeshStats st = compute_stats(mesh);
+  r.vertices = st.num_nodes;
+  r.cells = st.cells_per_kind;
+  r.num_cells = st.num_cells;
+  r.h_nbr = st.h_nbr;
+  r.h_vol = st.h_vol;
+  r.q_mean = st.q_mean;
+  r.q_min = st.q_min;
+  r.interior_quads = st.interior_quads;
+  r.nc_quads = st.nonconformal_quads;
+  r.nc_percent = st.nc_percent;
+  r.inverted = st.inverted;
+  r.volume_mixed = st.volume;
+  r.volume_rel_gap =
+      r.volume_tets > 0 ? std::abs(r.volume_mixed - r.volume_tets) / r.volume_tets : 0;
+  for (std::size_t f = 0; f < mesh.num_bfaces(); ++f)
+    ++(mesh.bface_is_quad(f) ? r.boundary_quads : r.boundary_triangles);
+  timer.stage("statistics");
+  timer.finish();
+  return mesh;
+}
+
+nlohmann::json volume_report_json(const VolumeReport& r) {
+  nlohmann::json j;
+  j["vertices"] = r.vertices;
+  j["surface_vertices"] = r.surface_vertices;
+  j["interior_points"] = r.interior_points;
+  j["steiner_points"] = r.steiner_points;
+  if (r.frontal_points) j["frontal_points"] = r.frontal_points;
+  j["tets_from_tetgen"] = r.tets;
+  j["absorbed_slivers"] = r.absorbed_slivers;
+  j["tets_in_elements"] = r.tets_in_elements;
+  nlohmann::json cells;
+  for (int k = 0; k < kNumCellKinds; ++k) cells[kind_name(static_cast<CellKind>(k))] = r.cells[k];
+  j["cells"] = cells;
+  j["num_cells"] = r.num_cells;
+  j["candidates"] = {{"hex8", r.hex_candidates},
+                     {"wedge6", r.prism_candidates},
+                     {"pyramid5", r.pyramid_candidates}};
+  j["h_nbr_percent"] = r.h_nbr;
+  j["h_vol_percent"] = r.h_vol;
+  j["q_mean"] = r.q_mean;
+  j["q_min"] = r.q_min;
+  j["interior_quads"] = r.interior_quads;
+  j["nc_quads"] = r.nc_quads;
+  j["nc_percent"] = r.nc_percent;
+  j["inverted"] = r.inverted;
+  j["boundary_triangles"] = r.boundary_triangles;
+  j["boundary_quads"] = r.boundary_quads;
+  j["volume_tets"] = r.volume_tets;
+  j["volume_mixed"] = r.volume_mixed;
+  j["volume_rel_gap"] = r.volume_rel_gap;
+  nlohmann::json stages = nlohmann::json::array();
+  for (const auto& s : r.stages) stages.push_back({{"stage", s.name}, {"seconds", s.seconds}});
+  j["stages"] = stages;
+  j["total_seconds"] = r.total_seconds;
+  j["threads"] = r.threads;
+  return j;
+}
+
+std::string volume_report_text(const VolumeReport& r) {
+  char buf[512];
+  std::string s;
+  auto line = [&](const char* fmt, auto... args) {
+    std::snprintf(buf, sizeof buf, fmt, args...);
+    s += buf;
+    s += '\n';
+  };
+  line("vertices        %zu (surface %zu, interior %zu, steiner %zu)", r.vertices,
+       r.surface_vertices, r.interior_points, r.steiner_points);
+  line("tets (tetgen)   %zu (%zu flat slivers on quad faces absorbed)", r.tets, r.absorbed_slivers);
+  line("elements        %zu: hex %zu, prism %zu, pyramid %zu, tet %zu", r.num_cells,
+       r.cells[static_cast<int>(CellKind::Hex8)], r.cells[static_cast<int>(CellKind::Wedge6)],
+       r.cells[static_cast<int>(CellKind::Pyramid5)], r.cells[static_cast<int>(CellKind::Tet4)]);
+  line("H_nbr           %.2f %%", r.h_nbr);
+  line("H_vol           %.2f %%", r.h_vol);
+  line("Q (hex)         mean %.3f, min %.3f", r.q_mean, r.q_min);
+  line("NC              %.2f %% (%zu of %zu interior quads)", r.nc_percent, r.nc_quads,
+       r.interior_quads);
+  line("inverted        %zu", r.inverted);
+  line("volume          tets %.9g, mixed %.9g, gap %.2e", r.volume_tets, r.volume_mixed,
+       r.volume_rel_gap);
+  for (const auto& st : r.stages) line("time %-22s %.3f s", st.name.c_str(), st.seconds);
+  line("time total                 %.3f s (%d threads)", r.total_seconds, r.threads);
+  return s;
+}
+
+}  // namespace hexfem

@@ -1,0 +1,61 @@
+// The volume mesher, end to end: surface mesh -> 3D frame field -> frontal points -> TetGen ->
+// hexes -> prisms -> pyramids -> mixed mesh with boundary quads and NC flags.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+#include "mesher/mesh/mixed_mesh.hpp"
+#include "mesher/surface_mesh.hpp"
+
+namespace hexfem {
+
+struct VolumeOptions {
+  double k = 0.7;              // exclusion factor of the point insertion (--k), in (0, 1)
+  double min_quality = 0.3;    // hexes/prisms below this min scaled Jacobian are not made
+  bool no_prisms = false;      // --no-prisms
+  bool no_pyramids = false;    // --no-pyramids
+  bool random_points = false;  // --random-points: random interior points at the same density
+  std::uint64_t random_seed = 1;
+  double max_volume_gap = 0.02;  // an element may differ from its tets' volume by this fraction
+  double max_face_twist = 0.2;   // and its quad faces may be this far from planar (FillRules)
+  double jitter = 0;             // interior points moved by up to jitter*h (volume_points.hpp)
+};
+
+struct VolumeReport {
+  struct Stage {
+    std::string name;
+    double seconds = 0;
+  };
+  std::size_t surface_vertices = 0, interior_points = 0, steiner_points = 0, vertices = 0;
+  std::size_t frontal_points = 0;    // random mode: the frontal count it aimed at
+  std::size_t tets = 0;              // TetGen's tets (inside the solids)
+  std::size_t absorbed_slivers = 0;  // flat tets on a hex/prism quad face, merged into it
+  std::size_t tets_in_elements = 0;  // tets merged into hexes, prisms and pyramids
+  std::array<std::size_t, kNumCellKinds> cells{};  // by CellKind
+  std::size_t num_cells = 0;
+  std::size_t hex_candidates = 0, prism_candidates = 0, pyramid_candidates = 0;
+  double h_nbr = 0, h_vol = 0;   // % of cells / of volume in hexes
+  double q_mean = 0, q_min = 0;  // over hexes
+  std::size_t interior_quads = 0, nc_quads = 0;
+  double nc_percent = 0;
+  std::size_t inverted = 0;
+  std::size_t boundary_triangles = 0, boundary_quads = 0;
+  double volume_tets = 0, volume_mixed = 0, volume_rel_gap = 0;  // gap = |mixed - tets| / tets
+  std::vector<Stage> stages;
+  double total_seconds = 0;
+  int threads = 1;
+};
+
+// Throws hexfem::Error (one line) for a bad surface mesh or option, or when TetGen fails.
+MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options = {},
+                      VolumeReport* report = nullptr);
+
+nlohmann::json volume_report_json(const VolumeReport& r);
+// The paper's table row and the per-stage times, one quantity per line.
+std::string volume_report_text(const VolumeReport& r);
+
+}  // namespace hexfem

@@ -1,0 +1,197 @@
+// Recombination (hexes, prisms, pyramids, conformity rules) and the whole volume pipeline, on
+// tet meshes whose answer is known: structured lattices split into tets, boxes, a cylinder.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "mesher/mesh/conformity.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/quality.hpp"
+#include "mesher/mesh/structured_box.hpp"
+#include "mesher/recombine_hex.hpp"
+#include "mesher/recombine_prism_pyramid.hpp"
+#include "mesher/volume_pipeline.hpp"
+#include "tests/volume/synthetic_surfaces.hpp"
+
+namespace hexfem {
+namespace {
+
+// A structured box split into tets, as a TetMesh + the SurfaceMesh of its boundary triangles.
+struct Lattice {
+  SurfaceMesh surface;
+  TetMesh tets;
+};
+Lattice lattice_of_tets(int nx, int ny, int nz, CellKind kind) {
+  const MixedMesh m = make_box_mesh({1.0 * nx, 1.0 * ny, 1.0 * nz}, nx, ny, nz, kind);
+  Lattice L;
+  L.surface.mesh.nodes = m.nodes;  // every node counts as a surface node here (harmless)
+  for (std::size_t f = 0; f < m.num_bfaces(); ++f)
+    L.surface.mesh.add_bface(m.bface(f)[0], m.bface(f)[1], m.bface(f)[2], -1, m.bface_cad_face[f]);
+  L.tets.nodes = m.nodes;
+  for (std::size_t c = 0; c < m.num_cells(); ++c) {
+    EXPECT_EQ(m.cell_kind[c], CellKind::Tet4);
+    L.tets.tets.push_back({m.cell(c)[0], m.cell(c)[1], m.cell(c)[2], m.cell(c)[3]});
+    L.tets.tet_solid.push_back(1);
+  }
+  return L;
+}
+
+TEST(RecombineHex, FindsEveryCubeOfAKuhnLattice) {
+  const Lattice L = lattice_of_tets(4, 3, 2, CellKind::Tet4);
+  const TetTopology topo(L.tets, L.surface);
+  std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
+  std::vector<char> used(L.tets.tets.size(), 0);
+  ConformityIndex index;
+  const auto hexes = place_greedily(cands, used, index);
+  ASSERT_EQ(hexes.size(), 24u);
+  for (const Candidate& h : hexes) {
+    EXPECT_FLOAT_EQ(h.quality, 1.0f);
+    int ntets = 0;
+    for (auto t : h.tets) ntets += t >= 0;
+    EXPECT_EQ(ntets, 6);  // Kuhn: six tets per cube
+  }
+  for (char u : used) EXPECT_TRUE(u);
+  // The sheared parallelepipeds the lattice also contains score below the cubes.
+  EXPECT_GT(cands.size(), hexes.size());
+  for (std::size_t i = 1; i < cands.size(); ++i) EXPECT_FALSE(cands[i] < cands[i - 1]);
+}
+
+TEST(RecombineHex, QuadAcrossTwoCadFacesIsNotMade) {
+  // One cube; split the x=0 face's two triangles between CAD faces 1 and 7.
+  Lattice L = lattice_of_tets(1, 1, 1, CellKind::Tet4);
+  int changed = 0;
+  for (std::size_t f = 0; f < L.surface.mesh.num_bfaces() && !changed; ++f)
+    if (L.surface.mesh.bface_cad_face[f] == 1) {
+      L.surface.mesh.bface_cad_face[f] = 7;
+      ++changed;
+    }
+  const TetTopology topo(L.tets, L.surface);
+  EXPECT_TRUE(enumerate_hexes(topo, HexOptions{}).empty());
+  const Lattice ok = lattice_of_tets(1, 1, 1, CellKind::Tet4);
+  const TetTopology topo_ok(ok.tets, ok.surface);
+  EXPECT_EQ(enumerate_hexes(topo_ok, HexOptions{}).size(), 1u);
+}
+
+TEST(RecombinePrism, FindsPrismsWhenHexesAreNotMade) {
+  const Lattice L = lattice_of_tets(2, 2, 1, CellKind::Tet4);
+  const TetTopology topo(L.tets, L.surface);
+  std::vector<char> used(L.tets.tets.size(), 0);
+  std::vector<Candidate> pc = enumerate_prisms(topo, used, PrismOptions{});
+  ConformityIndex index;
+  const auto prisms = place_greedily(pc, used, index);
+  // 24 tets: at most 8 prisms of three tets; each kept prism is valid and made of 3 tets.
+  EXPECT_GE(prisms.size(), 4u);
+  for (const Candidate& p : prisms) {
+    EXPECT_EQ(p.kind, CellKind::Wedge6);
+    Vec3 x[6];
+    for (int i = 0; i < 6; ++i) x[i] = L.tets.nodes[p.nodes[i]];
+    EXPECT_GT(min_scaled_jacobian(CellKind::Wedge6, x), 0.3);
+    EXPECT_NEAR(volume(CellKind::Wedge6, x), 0.5, 1e-12);  // half a unit cube
+    EXPECT_EQ(p.tets[2] >= 0 && p.tets[3] < 0, true);
+  }
+}
+
+Candidate hex(std::array<std::int32_t, 8> n) {
+  Candidate c;
+  c.kind = CellKind::Hex8;
+  c.nodes = n;
+  return c;
+}
+
+TEST(ConformityIndex, RulesOfFigures15To18) {
+  // Hex A on lattice nodes 0..7; B shares A's face (1,2,6,5) fully; C shares three of its
+  // corners; D has as an edge the diagonal 1-6 of A's face.
+  ConformityIndex index;
+  index.add(hex({0, 1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_FALSE(index.conflicts(hex({1, 8, 9, 2, 5, 10, 11, 6})));       // same quad: conformal
+  EXPECT_TRUE(index.conflicts(hex({1, 8, 9, 2, 5, 10, 11, 12})));       // 1,2,5 of quad (1,2,6,5)
+  EXPECT_TRUE(index.conflicts(hex({1, 6, 13, 14, 15, 16, 17, 18})));    // edge 1-6 = A's diagonal
+  EXPECT_FALSE(index.conflicts(hex({7, 19, 20, 21, 22, 23, 24, 25})));  // one shared vertex
+  // A prism whose triangle face holds three corners of A's quad (0,1,5,4).
+  Candidate prism;
+  prism.kind = CellKind::Wedge6;
+  prism.nodes = {0, 1, 5, 30, 31, 32, -1, -1};
+  EXPECT_TRUE(index.conflicts(prism));
+  // And A's diagonals against a placed prism's edges.
+  ConformityIndex j;
+  Candidate p2;
+  p2.kind = CellKind::Wedge6;
+  p2.nodes = {0, 2, 40, 41, 42, 43, -1, -1};  // edge 0-2 = diagonal of A's face (0,3,2,1)
+  j.add(p2);
+  EXPECT_TRUE(j.conflicts(hex({0, 1, 2, 3, 4, 5, 6, 7})));
+}
+
+// Checks every property the pipeline promises on one mesh.
+void check_mesh(const MixedMesh& m, const VolumeReport& r) {
+  EXPECT_EQ(r.inverted, 0u);
+  for (std::size_t c = 0; c < m.num_cells(); ++c) ASSERT_FALSE(cell_is_inverted(m, c)) << c;
+  EXPECT_LT(r.volume_rel_gap, 1e-3);
+  EXPECT_NEAR(r.volume_mixed, r.volume_tets, 1e-3 * r.volume_tets);
+  // Each tet used once: TetGen's tets are those merged into elements, the absorbed slivers
+  // and the tets left.
+  EXPECT_EQ(r.tets_in_elements + r.absorbed_slivers + r.cells[0], r.tets);
+  // NC flags are those of the lead's definition.
+  MixedMesh copy = m;
+  flag_nonconformal_quads(copy);
+  EXPECT_EQ(copy.nc_cell, m.nc_cell);
+  EXPECT_EQ(m.nc_cell.size(), r.nc_quads);
+}
+
+TEST(VolumePipeline, BoxLatticeBecomesAllHexes) {
+  const SurfaceMesh s = synthetic::box_surface({2.0, 1.0, 1.0}, {10, 5, 5});
+  VolumeReport r;
+  const MixedMesh m = mesh_volume(s, VolumeOptions{}, &r);
+  check_mesh(m, r);
+  EXPECT_EQ(r.cells[static_cast<int>(CellKind::Hex8)], 250u);
+  EXPECT_EQ(m.num_cells(), 250u);
+  EXPECT_DOUBLE_EQ(r.h_nbr, 100.0);
+  EXPECT_NEAR(r.q_mean, 1.0, 1e-9);
+  EXPECT_EQ(r.nc_quads, 0u);
+  // Every boundary face became a quad: 2 * (10*5 + 10*5 + 5*5) squares.
+  EXPECT_EQ(r.boundary_quads, 250u);
+  EXPECT_EQ(r.boundary_triangles, 0u);
+  EXPECT_NEAR(r.volume_mixed, 2.0, 1e-12);
+  // Boundary quads keep the CAD faces: 50 on each y/z side, 25 on each x side.
+  std::vector<int> per_face(7, 0);
+  for (std::size_t f = 0; f < m.num_bfaces(); ++f) ++per_face[m.bface_cad_face[f]];
+  EXPECT_EQ(per_face, (std::vector<int>{0, 25, 25, 50, 50, 50, 50}));
+}
+
+TEST(VolumePipeline, CylinderIsValidDeterministicAndMostlyHexes) {
+  const SurfaceMesh s = synthetic::cylinder_surface(1.0, 1.0, 0.125);
+  VolumeReport r1, r2;
+  const MixedMesh a = mesh_volume(s, VolumeOptions{}, &r1);
+  const MixedMesh b = mesh_volume(s, VolumeOptions{}, &r2);
+  check_mesh(a, r1);
+  EXPECT_EQ(a.nodes, b.nodes);
+  EXPECT_EQ(a.cell_kind, b.cell_kind);
+  EXPECT_EQ(a.cell_nodes, b.cell_nodes);
+  EXPECT_EQ(a.bface_nodes, b.bface_nodes);
+  EXPECT_EQ(a.nc_cell, b.nc_cell);
+  EXPECT_GT(r1.h_vol, 70.0);
+  EXPECT_GT(r1.cells[static_cast<int>(CellKind::Wedge6)], 0u);
+  EXPECT_GT(r1.cells[static_cast<int>(CellKind::Pyramid5)], 0u);
+  // Without prisms and pyramids there are none, and no fewer hexes.
+  VolumeOptions o;
+  o.no_prisms = o.no_pyramids = true;
+  VolumeReport r3;
+  const MixedMesh c = mesh_volume(s, o, &r3);
+  check_mesh(c, r3);
+  EXPECT_EQ(r3.cells[static_cast<int>(CellKind::Wedge6)], 0u);
+  EXPECT_EQ(r3.cells[static_cast<int>(CellKind::Pyramid5)], 0u);
+  EXPECT_EQ(r3.cells[static_cast<int>(CellKind::Hex8)], r1.cells[static_cast<int>(CellKind::Hex8)]);
+}
+
+TEST(VolumePipeline, BadOptionsAreErrors) {
+  const SurfaceMesh s = synthetic::box_surface({1, 1, 1}, {2, 2, 2});
+  VolumeOptions o;
+  o.k = 1.2;
+  EXPECT_THROW(mesh_volume(s, o), Error);
+  o = {};
+  o.min_quality = 2;
+  EXPECT_THROW(mesh_volume(s, o), Error);
+}
+
+}  // namespace
+}  // namespace hexfem
