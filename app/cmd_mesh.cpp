@@ -1,6 +1,6 @@
-// `hexfem mesh part.step --h 1.0 --dim 2 -o surface.msh|.vtu [--json] [--force]
-//  [--curvature N] [--size-at vertex:ID=h]...`: the surface mesh of a CAD part (--dim 3, the
-// volume stage, is not wired in yet).
+// `hexfem mesh part.step --h 1.0 [--dim 3|2] -o mesh.msh|.vtu|.inp [--json] [--force]
+//  [--curvature N] [--size-at vertex:ID=h]...`: the hex-dominant mesh of a CAD part (--dim 3,
+// the default; volume_mesh_cli.cpp) or its surface mesh (--dim 2).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -8,6 +8,7 @@
 #include <regex>
 
 #include "app/command_registry.hpp"
+#include "app/volume_mesh_cli.hpp"
 #include "mesher/cad/cad_model.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
@@ -20,12 +21,14 @@ namespace {
 struct MeshArgs {
   std::string file;
   double h = 0;
-  int dim = 2;
+  int dim = 3;
   std::string output;
   bool json = false;
   bool force = false;
   int curvature = 0;
   std::vector<std::string> size_at;
+  VolumeOptions volume;  // --dim 3 only
+  bool binary = false;
 };
 
 std::pair<int, double> parse_size_at(const std::string& s) {
@@ -41,8 +44,7 @@ std::pair<int, double> parse_size_at(const std::string& s) {
 
 int run(const MeshArgs& a) {
   using Clock = std::chrono::steady_clock;
-  if (a.dim == 3) throw Error("--dim 3 (volume meshing) is not available yet; use --dim 2");
-  if (a.dim != 2) throw Error("--dim must be 2 (surface) or 3 (volume)");
+  if (a.dim != 2 && a.dim != 3) throw Error("--dim must be 2 (surface) or 3 (volume)");
   if (!(a.h > 0)) throw Error("--h must be > 0 (got " + std::to_string(a.h) + ")");
   if (!a.output.empty()) {
     const std::string ext = std::filesystem::path(a.output).extension().string();
@@ -54,6 +56,16 @@ int run(const MeshArgs& a) {
   opt.curvature = a.curvature;
   opt.force = a.force;
   for (const auto& s : a.size_at) opt.vertex_sizes.push_back(parse_size_at(s));
+  if (a.dim == 3) {
+    VolumeMeshArgs v;
+    v.file = a.file;
+    v.options.surface = opt;
+    v.options.volume = a.volume;
+    v.output = a.output;
+    v.json = a.json;
+    v.binary = a.binary;
+    return run_volume_mesh(v);
+  }
 
   auto t0 = Clock::now();
   const CadModel cad = CadModel::read(a.file);
@@ -135,20 +147,30 @@ int run(const MeshArgs& a) {
   return 0;
 }
 
-RegisterCommand reg{{"mesh", "Mesh a CAD part (--dim 2: surface mesh by packing of parallelograms)",
-                     [](CLI::App& sub) {
-                       auto a = std::make_shared<MeshArgs>();
-                       sub.add_option("file", a->file, "STEP, IGES or BREP file")->required();
-                       sub.add_option("--h", a->h, "target element size (mm)")->required();
-                       sub.add_option("--dim", a->dim, "2 = surface mesh, 3 = volume mesh");
-                       sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)");
-                       sub.add_flag("--json", a->json, "print the report as JSON on stdout");
-                       sub.add_flag("--force", a->force, "allow more than 50 M surface points");
-                       sub.add_option("--curvature", a->curvature,
-                                      "curvature bound: N elements per 2*pi (0 = off)");
-                       sub.add_option("--size-at", a->size_at, "size at a CAD vertex: vertex:ID=h");
-                       return [a] { return run(*a); };
-                     }}};
+RegisterCommand reg{
+    {"mesh",
+     "Mesh a CAD part: hex-dominant volume mesh (--dim 3, default) or surface mesh (--dim 2)",
+     [](CLI::App& sub) {
+       auto a = std::make_shared<MeshArgs>();
+       sub.add_option("file", a->file, "STEP, IGES or BREP file")->required();
+       sub.add_option("--h", a->h, "target element size (mm)")->required();
+       sub.add_option("--dim", a->dim, "2 = surface mesh, 3 = volume mesh");
+       sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)");
+       sub.add_flag("--json", a->json, "print the report as JSON on stdout");
+       sub.add_flag("--force", a->force, "allow more than 50 M surface points");
+       sub.add_option("--curvature", a->curvature,
+                      "curvature bound: N elements per 2*pi (0 = off)");
+       sub.add_option("--size-at", a->size_at, "size at a CAD vertex: vertex:ID=h");
+       sub.add_flag("--binary", a->binary, "write MSH 4.1 binary");
+       sub.add_option("--k", a->volume.k, "point exclusion factor k (paper: 0.7)");
+       sub.add_option("--min-quality", a->volume.min_quality,
+                      "smallest scaled Jacobian of a hex or prism made");
+       sub.add_flag("--no-prisms", a->volume.no_prisms, "make no prisms");
+       sub.add_flag("--no-pyramids", a->volume.no_pyramids, "make no pyramids");
+       sub.add_flag("--random-points", a->volume.random_points,
+                    "random interior points instead of frontal ones (study)");
+       return [a] { return run(*a); };
+     }}};
 
 }  // namespace
 }  // namespace hexfem

@@ -15,7 +15,7 @@ namespace hexfem {
 struct EigenOptions {
   int num_modes = 10;
   double tolerance = 1e-10;  // Spectra's relative tolerance on the Ritz values
-  // Shift σ = -shift_fraction * max_i(K_ii / M_ii): slightly below zero so K - σM is positive
+  // Shift σ = -shift_fraction * median_i(K_ii / M_ii): slightly below zero so K - σM is positive
   // definite for free structures (rigid-body modes come out near zero) and far enough below the
   // elastic spectrum of any practical mesh not to slow the iteration.
   double shift_fraction = 1e-8;
@@ -35,7 +35,7 @@ struct EigenResult {
   long iterations = 0;      // Lanczos restarts
   long operations = 0;      // applications of (K - σM)^-1
   double factor_seconds = 0, solve_seconds = 0;
-  double max_residual = 0;  // max over modes of |Kφ - λMφ| / (|Kφ| + |λ||Mφ|)
+  double max_residual = 0;  // max over modes of |Kφ - λMφ| / (λ_top |Mφ|), λ_top the largest found
 };
 
 // Lowest `num_modes` eigenpairs of (K, M) given as lower triangles. Throws hexfem::Error when

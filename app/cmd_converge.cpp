@@ -1,0 +1,127 @@
+// hexfem converge part.step --h 2,1,0.5 --fix face:8 [--reference ref.json]: the paper's Table 2.
+// Meshes and solves the part at each size, then prints and writes the table (CSV, Markdown) with
+// errors against the reference, the observed order, and a log-log plot of error versus h.
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "app/command_registry.hpp"
+#include "app/convergence_table.hpp"
+#include "app/part_modal.hpp"
+#include "fem/material.hpp"
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+namespace {
+
+struct ConvergeArgs {
+  std::string file;
+  std::vector<double> sizes;
+  std::vector<std::string> fix;
+  std::string material = "steel";
+  int modes = 6;
+  std::string reference;
+  std::string output;
+  bool json = false;
+  int curvature = 0;
+};
+
+int run(const ConvergeArgs& a) {
+  if (!is_cad_file(a.file)) throw Error("'" + a.file + "' is not a CAD file (.step .iges .brep)");
+  if (a.sizes.empty()) throw Error("--h needs at least one size");
+  for (double h : a.sizes)
+    if (!(h > 0)) throw Error("--h: every size must be > 0");
+  if (a.fix.empty()) throw Error("--fix is required for a convergence study (e.g. --fix face:8)");
+
+  ConvergenceStudy study;
+  study.part = std::filesystem::path(a.file).filename().string();
+  if (!a.reference.empty()) {
+    study.reference = read_reference_json(a.reference);
+    study.reference_source = a.reference;
+  }
+  const CadModel cad = CadModel::read(a.file);
+  check_fixed_faces_exist(cad, a.fix);
+  ModalOptions modal;
+  modal.material = material_by_name(a.material);
+  modal.fix = a.fix;
+  modal.num_modes = a.modes;
+
+  for (std::size_t i = 0; i < a.sizes.size(); ++i) {
+    MeshOptions mesh;
+    mesh.surface.h = a.sizes[i];
+    mesh.surface.curvature = a.curvature;
+    std::fprintf(stderr, "converge: run %zu/%zu, h = %g ...\n", i + 1, a.sizes.size(), a.sizes[i]);
+    const PartModalResult r = run_part_modal(cad, mesh, modal);
+    ConvergenceRow row;
+    row.h = a.sizes[i];
+    row.nodes = static_cast<long>(r.mesh.nodes.size());
+    row.cells = static_cast<long>(r.mesh.num_cells());
+    row.h_vol = r.stats.h_vol;
+    row.h_nbr = r.stats.h_nbr;
+    row.seconds = r.mesh_seconds + r.solve_seconds;
+    row.frequencies = r.modal.frequencies;
+    std::fprintf(stderr, "converge: h = %g: %ld cells, H_vol %.2f %%, f1 %.3f Hz (%.1f s)\n", row.h,
+                 row.cells, row.h_vol, row.frequencies.empty() ? 0.0 : row.frequencies[0],
+                 row.seconds);
+    study.rows.push_back(std::move(row));
+  }
+
+  const std::string stem =
+      a.output.empty() ? std::filesystem::path(a.file).stem().string() + "_converge" : a.output;
+  const auto files = write_convergence_files(study, stem);
+  if (a.json) {
+    nlohmann::json j;
+    j["part"] = a.file;
+    j["material"] = a.material;
+    j["fix"] = a.fix;
+    j["reference_hz"] = study.reference;
+    j["rows"] = nlohmann::json::array();
+    for (std::size_t r = 0; r < study.rows.size(); ++r) {
+      const auto& row = study.rows[r];
+      nlohmann::json jr = {{"h", row.h},
+                           {"nodes", row.nodes},
+                           {"cells", row.cells},
+                           {"H_vol", row.h_vol},
+                           {"H_nbr", row.h_nbr},
+                           {"seconds", row.seconds},
+                           {"frequencies_hz", row.frequencies}};
+      for (int i = 0; i < study.num_frequencies() && !study.reference.empty(); ++i)
+        jr["relative_error"].push_back(study.error(r, i));
+      j["rows"].push_back(jr);
+    }
+    for (int i = 0; i < study.num_frequencies(); ++i) {
+      const double p = study.observed_order(study.rows.size() - 1, i);
+      j["observed_order"].push_back(std::isnan(p) ? nlohmann::json() : nlohmann::json(p));
+      j["monotone"].push_back(study.monotone(i));
+    }
+    for (const auto& f : files) j["files"].push_back(f.string());
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: material '%s', fixed %s; lengths in mm, frequencies in Hz\n", study.part.c_str(),
+              a.material.c_str(), a.fix.front().c_str());
+  std::printf("%s", convergence_text(study).c_str());
+  for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
+  return 0;
+}
+
+RegisterCommand reg{
+    {"converge", "Frequencies of a CAD part over mesh sizes (the paper's Table 2)",
+     [](CLI::App& sub) -> std::function<int()> {
+       auto a = std::make_shared<ConvergeArgs>();
+       sub.add_option("file", a->file, "STEP, IGES or BREP file (lengths in mm)")->required();
+       sub.add_option("--h", a->sizes, "mesh sizes, coarse to fine, e.g. 2,1,0.5")
+           ->required()
+           ->delimiter(',');
+       sub.add_option("--fix", a->fix, "fixed faces, e.g. face:8 (ids from hexfem info)");
+       sub.add_option("--material", a->material, "steel, aluminium or titanium");
+       sub.add_option("--modes", a->modes, "number of modes per run");
+       sub.add_option("--reference", a->reference, "JSON with \"reference_hz\": [...]");
+       sub.add_option("-o,--output", a->output, "stem of the CSV/Markdown/PNG files");
+       sub.add_option("--curvature", a->curvature, "curvature bound: N elements per 2*pi");
+       sub.add_flag("--json", a->json, "print the study as JSON");
+       return [a] { return run(*a); };
+     }}};
+
+}  // namespace
+}  // namespace hexfem

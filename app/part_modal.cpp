@@ -1,0 +1,80 @@
+#include "app/part_modal.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "mesher/mesh/atomic_file.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/progress.hpp"
+
+namespace hexfem {
+
+bool is_cad_file(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
+  return ext == "step" || ext == "stp" || ext == "iges" || ext == "igs" || ext == "brep" ||
+         ext == "rle";
+}
+
+void check_fixed_faces_exist(const CadModel& cad, const std::vector<std::string>& fix) {
+  for (const std::string& spec : fix) {
+    if (spec.rfind("face:", 0) != 0) continue;
+    std::string ids = spec.substr(
+        5, spec.find('@') == std::string::npos ? std::string::npos : spec.find('@') - 5);
+    std::stringstream in(ids);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+      int id = 0;
+      try {
+        std::size_t used = 0;
+        id = std::stoi(item, &used);
+        if (used != item.size()) throw std::invalid_argument(item);
+      } catch (const std::exception&) {
+        throw Error("--fix '" + spec + "': '" + item + "' is not a face id");
+      }
+      if (id < 1 || id > cad.num_faces())
+        throw Error("--fix '" + spec + "': face " + std::to_string(id) +
+                    " does not exist (the part has faces 1.." + std::to_string(cad.num_faces()) +
+                    "; see hexfem info)");
+    }
+  }
+}
+
+PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_options,
+                               ModalOptions modal_options) {
+  using Clock = std::chrono::steady_clock;
+  check_fixed_faces_exist(cad, modal_options.fix);
+  PartModalResult r;
+  auto t0 = Clock::now();
+  r.mesh = mesh_part(cad, mesh_options, &r.mesh_report);
+  r.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (r.mesh_report.volume.inverted > 0)
+    throw Error("internal error: the mesh has " + std::to_string(r.mesh_report.volume.inverted) +
+                " inverted elements");
+  r.stats = compute_stats(r.mesh);
+
+  modal_options.length_scale = 1e-3;  // CAD lengths are millimetres; the solve is in SI
+  show_progress("solving " + std::to_string(3 * r.mesh.nodes.size()) + " DOFs...");
+  t0 = Clock::now();
+  r.modal = solve_modal(r.mesh, modal_options);
+  r.solve_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  end_progress();
+
+  if (!modal_options.fix.empty() && !r.modal.eigenvalues.empty()) {
+    // A clamped part has no zero-energy mode; a rigid-body mode left means the fixed set does
+    // not hold it (a single node, one component only, ...).
+    const double largest = r.modal.eigenvalues.back();
+    if (r.modal.eigenvalues.front() < 1e-8 * largest) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "the fixed set leaves the part free to move (mode 1 at %.3g Hz is a "
+                    "rigid-body mode); fix a face or more components",
+                    r.modal.frequencies.front());
+      throw Error(buf);
+    }
+  }
+  return r;
+}
+
+}  // namespace hexfem

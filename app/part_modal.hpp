@@ -1,0 +1,36 @@
+// The whole chain in one process: CAD part -> hex-dominant mesh -> modal analysis.
+// Shared by `hexfem modal part.step` and `hexfem converge`.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "fem/modal_solver.hpp"
+#include "mesher/mesh/mesh_stats.hpp"
+#include "mesher/pipeline.hpp"
+
+namespace hexfem {
+
+struct PartModalResult {
+  MixedMesh mesh;
+  MeshReport mesh_report;
+  MeshStats stats;
+  ModalResult modal;
+  double mesh_seconds = 0, solve_seconds = 0;
+};
+
+// True for the CAD extensions hexfem reads (.step .stp .iges .igs .brep .rle).
+bool is_cad_file(const std::filesystem::path& path);
+
+// Checks that every face id named in --fix specs ("face:3,7[@xyz]") exists in the part, so a
+// typo is reported before any meshing. Throws hexfem::Error naming the missing id.
+void check_fixed_faces_exist(const CadModel& cad, const std::vector<std::string>& fix);
+
+// Meshes the part (lengths in mm, so options.length_scale is set to 1e-3 m/mm) and solves.
+// With a non-empty fix list, a result with rigid-body modes left (the fixed set does not hold
+// the part) is an error, not a silently free analysis.
+PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_options,
+                               ModalOptions modal_options);
+
+}  // namespace hexfem

@@ -1,0 +1,49 @@
+#include "app/volume_mesh_cli.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "mesher/mesh/atomic_file.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/mesh_io.hpp"
+
+namespace hexfem {
+
+int run_volume_mesh(const VolumeMeshArgs& a) {
+  if (!a.output.empty()) {
+    const std::string ext = lower_extension(a.output);
+    if (ext != "msh" && ext != "vtu" && ext != "inp")
+      throw Error("-o '" + a.output + "': the output must end in .msh, .vtu or .inp");
+  }
+  MeshReport report;
+  const MixedMesh mesh = mesh_file(a.file, a.options, &report);
+  // The mesher never emits an inverted element; refuse to write one if it ever did.
+  if (report.volume.inverted > 0)
+    throw Error("internal error: the mesh has " + std::to_string(report.volume.inverted) +
+                " inverted elements; not written");
+  double write_seconds = 0;
+  if (!a.output.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    write_mesh(mesh, a.output, MshWriteOptions{a.binary});
+    write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  if (a.json) {
+    nlohmann::json j = mesh_report_json(report);
+    j["file"] = a.file;
+    j["h"] = a.options.surface.h;
+    if (!a.output.empty()) {
+      j["output"] = a.output;
+      j["write_seconds"] = write_seconds;
+    }
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: h = %g mm (file unit %s)\n", a.file.c_str(), a.options.surface.h,
+              report.file_unit.c_str());
+  std::printf("%s", mesh_report_text(report).c_str());
+  if (!a.output.empty()) std::printf("wrote %s (%.3f s)\n", a.output.c_str(), write_seconds);
+  return 0;
+}
+
+}  // namespace hexfem

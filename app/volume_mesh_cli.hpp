@@ -1,0 +1,22 @@
+// `hexfem mesh --dim 3`: the whole pipeline from a CAD file to a written hex-dominant mesh.
+#pragma once
+
+#include <string>
+
+#include "mesher/pipeline.hpp"
+
+namespace hexfem {
+
+struct VolumeMeshArgs {
+  std::string file;
+  MeshOptions options;
+  std::string output;  // empty: no file written
+  bool json = false;
+  bool binary = false;  // MSH 4.1 binary
+};
+
+// Meshes, checks (no inverted element may be written) and writes; prints the paper's table
+// row, the volume error and the time per stage (or JSON). Returns the exit code.
+int run_volume_mesh(const VolumeMeshArgs& args);
+
+}  // namespace hexfem

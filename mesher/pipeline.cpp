@@ -1,0 +1,105 @@
+#include "mesher/pipeline.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/progress.hpp"
+#include "mesher/mesh/quality.hpp"
+
+namespace hexfem {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport* report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const double h = options.surface.h;
+  if (!(h > 0) || !std::isfinite(h))
+    throw Error("mesh size h must be > 0 (got " + std::to_string(h) + ")");
+  if (cad.num_solids() == 0) throw Error("the CAD file holds no solid to mesh");
+  const double estimate = cad.volume() / (h * h * h);
+  if (estimate > options.max_volume_points && !options.surface.force) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "h = %g would give about %.3g interior points (limit %.3g); use a larger h or "
+                  "--force",
+                  h, estimate, options.max_volume_points);
+    throw Error(buf);
+  }
+  MeshReport local;
+  MeshReport& r = report ? *report : local;
+  r.file_unit = cad.file_unit();
+  r.cad_volume = cad.volume();
+
+  show_progress("meshing surfaces...");
+  const SurfaceMesh surface = mesh_surface(cad, options.surface, &r.surface);
+  show_progress("meshing volume (" + std::to_string(surface.mesh.nodes.size()) +
+                " surface vertices)...");
+  MixedMesh mesh = mesh_volume(surface, options.volume, &r.volume);
+  end_progress();
+
+  r.mesh_volume = 0;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) r.mesh_volume += cell_volume(mesh, c);
+  r.volume_error = r.cad_volume > 0 ? (r.mesh_volume - r.cad_volume) / r.cad_volume : 0;
+  r.total_seconds = seconds_since(t0) + r.cad_seconds;
+  return mesh;
+}
+
+MixedMesh mesh_file(const std::filesystem::path& path, const MeshOptions& options,
+                    MeshReport* report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  show_progress("reading " + path.filename().string() + "...");
+  const CadModel cad = CadModel::read(path);
+  MeshReport local;
+  MeshReport& r = report ? *report : local;
+  r.cad_seconds = seconds_since(t0);
+  return mesh_part(cad, options, &r);
+}
+
+nlohmann::json mesh_report_json(const MeshReport& r) {
+  nlohmann::json j = volume_report_json(r.volume);
+  j["file_unit"] = r.file_unit;
+  j["length_unit"] = "mm";
+  j["cad_volume"] = r.cad_volume;
+  j["mesh_volume"] = r.mesh_volume;
+  j["volume_error"] = r.volume_error;
+  j["surface_points"] = r.surface.points;
+  j["surface_triangles"] = r.surface.triangles;
+  nlohmann::json stages = nlohmann::json::array();
+  stages.push_back({{"name", "cad read"}, {"seconds", r.cad_seconds}});
+  for (const auto& [name, s] : r.surface.stage_seconds)
+    stages.push_back({{"name", "surface: " + name}, {"seconds", s}});
+  for (const auto& s : r.volume.stages)
+    stages.push_back({{"name", "volume: " + s.name}, {"seconds", s.seconds}});
+  j["pipeline_stages"] = stages;
+  j["total_seconds"] = r.total_seconds;
+  j["vertices_per_second"] = r.total_seconds > 0 ? r.volume.vertices / r.total_seconds : 0.0;
+  return j;
+}
+
+std::string mesh_report_text(const MeshReport& r) {
+  std::string out = volume_report_text(r.volume);
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "volume error     %+.3e relative to the CAD volume %.6g mm^3 (file unit %s)\n"
+                "surface          %zu points, %zu triangles\n"
+                "time             %.3f s total (cad read %.3f s, surface",
+                r.volume_error, r.cad_volume, r.file_unit.c_str(), r.surface.points,
+                r.surface.triangles, r.total_seconds, r.cad_seconds);
+  out += buf;
+  double surface_total = 0;
+  for (const auto& [name, s] : r.surface.stage_seconds) surface_total += s;
+  std::snprintf(buf, sizeof buf, " %.3f s, volume %.3f s), %.0f vertices/s\n", surface_total,
+                r.volume.total_seconds,
+                r.total_seconds > 0 ? r.volume.vertices / r.total_seconds : 0.0);
+  out += buf;
+  return out;
+}
+
+}  // namespace hexfem

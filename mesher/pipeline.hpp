@@ -1,0 +1,44 @@
+// The whole mesher in the paper's order: CAD -> surface mesh (size field, cross field, packing of
+// parallelograms, triangulation) -> volume (3D frontal points, TetGen, hexes, prisms, pyramids).
+#pragma once
+
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+
+#include "mesher/cad/cad_model.hpp"
+#include "mesher/surface_pipeline.hpp"
+#include "mesher/volume_pipeline.hpp"
+
+namespace hexfem {
+
+struct MeshOptions {
+  SurfaceOptions surface;  // surface.h is the target size (mm), surface.force lifts the limits
+  VolumeOptions volume;
+  double max_volume_points = 20e6;  // estimated interior points (V / h^3) allowed without force
+};
+
+struct MeshReport {
+  std::string file_unit;
+  double cad_volume = 0;    // mm^3
+  double mesh_volume = 0;   // sum of the cell volumes, mm^3
+  double volume_error = 0;  // (mesh - CAD) / CAD
+  double cad_seconds = 0;   // reading the CAD file (when mesh_file is used)
+  SurfaceReport surface;
+  VolumeReport volume;
+  double total_seconds = 0;
+};
+
+// Hex-dominant mesh of every solid of the part. Throws hexfem::Error (one line) on bad options,
+// an h that would give more than max_volume_points without surface.force, or a failing stage.
+MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport* report = nullptr);
+
+// Reads the CAD file and meshes it.
+MixedMesh mesh_file(const std::filesystem::path& path, const MeshOptions& options,
+                    MeshReport* report = nullptr);
+
+nlohmann::json mesh_report_json(const MeshReport& r);
+// The paper's table row (vertices, elements per kind, H_nbr, H_vol, Q, NC, inverted), the
+// volume error and the time per stage, one quantity per line.
+std::string mesh_report_text(const MeshReport& r);
+
+}  // namespace hexfem
