@@ -25,6 +25,7 @@
 #include "fem/boundary.hpp"
 #include "fem/ccx_reference.hpp"
 #include "fem/modal_solver.hpp"
+#include "mesher/mesh/conformity.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/structured_box.hpp"
 
@@ -179,6 +180,188 @@ int benchmark(const std::vector<std::string>& args) {
   return 0;
 }
 
+// ---------------------------------------------------------------------------------------------
+ModalResult solve(const MixedMesh& mesh, const std::vector<std::string>& fix, int modes,
+                  double scale, const Material& mat = kSteel) {
+  ModalOptions o;
+  o.material = mat;
+  o.fix = fix;
+  o.num_modes = modes;
+  o.length_scale = scale;
+  return solve_modal(mesh, o);
+}
+
+const char* kind_label(CellKind k) {
+  return k == CellKind::Pyramid5 ? "pyramid+tet" : kind_name(k);
+}
+
+int ccx_study() {
+  const MixedMesh hex = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
+  std::printf(
+      "| kind (40x4x4 cubes) | ccx element | mode | hexfem Hz | ccx Hz | rel. diff "
+      "|\n|---|---|---|---|---|---|\n");
+  for (CellKind kind : {CellKind::Hex8, CellKind::Tet4, CellKind::Wedge6, CellKind::Pyramid5}) {
+    const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, kind);
+    const ModalResult r = solve(mesh, {"face:1"}, 6, 1e-3);
+    const CcxRun ccx =
+        run_ccx_frequency(mesh, select_fixed_dofs(mesh, {"face:1"}), kSteel, 6,
+                          scratch(std::string("ccx_") + kind_name(kind)), "beam", 1e-3);
+    const char* el = kind == CellKind::Hex8     ? "C3D8"
+                     : kind == CellKind::Tet4   ? "C3D4"
+                     : kind == CellKind::Wedge6 ? "C3D6"
+                                                : "C3D4 + C3D8 (degenerate pyramids)";
+    for (int i = 0; i < 6; ++i)
+      std::printf("| %s | %s | %d | %.7g | %.7g | %.2e |\n", kind_label(kind), el, i + 1,
+                  r.frequencies[i], ccx.output.frequencies[i],
+                  r.frequencies[i] / ccx.output.frequencies[i] - 1);
+  }
+  return 0;
+}
+
+int convergence_study(const std::vector<std::string>& args) {
+  std::vector<int> levels = {1, 2, 3, 4, 6, 8, 10};
+  if (!args.empty()) {
+    levels.clear();
+    for (const auto& a : args) levels.push_back(std::stoi(a));
+  }
+  // 100 x 10 x 10 mm steel cantilever, 10m x m x m cubes; f1 = f2 (bending), f5 torsion, f6 axial.
+  std::vector<std::vector<double>> hex;
+  for (int m : levels) {
+    const ModalResult r =
+        solve(make_box_mesh({100, 10, 10}, 10 * m, m, m, CellKind::Hex8), {"face:1"}, 6, 1e-3);
+    hex.push_back(r.frequencies);
+  }
+  const std::vector<double>& ref = hex.back();
+  std::printf("Reference: hex8 at m = %d: f1 %.5g, f5 %.5g, f6 %.5g Hz\n\n", levels.back(), ref[0],
+              ref[4], ref[5]);
+  std::printf(
+      "| kind | m (cubes 10m x m x m) | DOF | f1 Hz | f1 vs hex same m | f1 vs finest hex | f5 Hz "
+      "(torsion) | f5 vs finest hex | f6 Hz (axial) | f6 vs finest hex |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (CellKind kind : {CellKind::Hex8, CellKind::Tet4, CellKind::Wedge6, CellKind::Pyramid5})
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+      const int m = levels[l];
+      const ModalResult r =
+          solve(make_box_mesh({100, 10, 10}, 10 * m, m, m, kind), {"face:1"}, 6, 1e-3);
+      const auto& f = r.frequencies;
+      std::printf(
+          "| %s | %d | %ld | %.2f | %+.2f%% | %+.2f%% | %.1f | %+.2f%% | %.1f | %+.2f%% |\n",
+          kind_label(kind), m, r.num_free_dofs, f[0], 100 * (f[0] / hex[l][0] - 1),
+          100 * (f[0] / ref[0] - 1), f[4], 100 * (f[4] / ref[4] - 1), f[5],
+          100 * (f[5] / ref[5] - 1));
+      std::fflush(stdout);
+    }
+  return 0;
+}
+
+int euler_study() {
+  // Slender steel beam L = 1 m, 20 x 20 mm, clamped at x = 0.
+  const double L = 1.0, h = 0.02;
+  const double I = h * h * h * h / 12, A = h * h;
+  const double fe =
+      1.875104 * 1.875104 / (2 * M_PI * L * L) * std::sqrt(kSteel.E * I / (kSteel.rho * A));
+  std::printf("Euler-Bernoulli f1 = %.5f Hz (L/h = %.0f)\n\n", fe, L / h);
+  std::printf(
+      "| hex8 mesh | elements through thickness | element aspect | DOF | f1 Hz | vs "
+      "Euler-Bernoulli | solve s |\n|---|---|---|---|---|---|---|\n");
+  for (int t : {2, 4, 6, 8})
+    for (int aspect : {1, 2}) {
+      const int nx = static_cast<int>(L / h) * t / aspect;
+      const double t0 = now();
+      const ModalResult r =
+          solve(make_box_mesh({L, h, h}, nx, t, t, CellKind::Hex8), {"face:1"}, 1, 1.0);
+      std::printf("| %dx%dx%d | %d | %d | %ld | %.4f | %+.3f%% | %.1f |\n", nx, t, t, t, aspect,
+                  r.num_free_dofs, r.frequencies[0], 100 * (r.frequencies[0] / fe - 1), now() - t0);
+      std::fflush(stdout);
+    }
+  return 0;
+}
+
+std::vector<std::string> fv52_fix() {
+  // u_z = 0 along the four edges of the bottom face only.
+  return {"z<1e-6&x<1e-6@z", "z<1e-6&x>9.999999@z", "z<1e-6&y<1e-6@z", "z<1e-6&y>9.999999@z"};
+}
+
+int fv52_study() {
+  const Material mat{"fv52", 200e9, 0.3, 8000};
+  const double ref[7] = {45.897, 109.44, 109.44, 167.89, 193.59, 206.19, 206.19};
+  std::printf(
+      "| hex8 mesh | DOF | f1-f3 (rigid) Hz | f4 | f5 | f6 | f7 | f8 | f9 | f10 | f4 vs 45.897 | "
+      "max dev. f4-f10 | s |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| NAFEMS reference | | 0 | 45.897 | 109.44 | 109.44 | 167.89 | 193.59 | 206.19 | 206.19 | | "
+      "| |\n");
+  for (auto [n, m] : {std::pair{10, 2},
+                      {20, 2},
+                      {20, 3},
+                      {20, 4},
+                      {30, 3},
+                      {40, 4},
+                      {40, 8},
+                      {60, 6},
+                      {60, 12}}) {
+    const double t0 = now();
+    const ModalResult r =
+        solve(make_box_mesh({10, 10, 1}, n, n, m, CellKind::Hex8), fv52_fix(), 10, 1.0, mat);
+    const auto& f = r.frequencies;
+    double dev = 0;
+    for (int i = 3; i < 10; ++i) dev = std::max(dev, std::abs(f[i] / ref[i - 3] - 1));
+    std::printf("| %dx%dx%d | %ld | %.1e / %.1e / %.1e |", n, n, m, r.num_free_dofs, f[0], f[1],
+                f[2]);
+    for (int i = 3; i < 10; ++i) std::printf(" %.3f |", f[i]);
+    std::printf(" %+.2f%% | %.2f%% | %.1f |\n", 100 * (f[3] / ref[0] - 1), 100 * dev, now() - t0);
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+int nc_study(const std::vector<std::string>& args) {
+  std::vector<int> levels = {1, 2, 4};
+  if (!args.empty()) {
+    levels.clear();
+    for (const auto& a : args) levels.push_back(std::stoi(a));
+  }
+  std::printf(
+      "| m | mesh | NC quad faces | DOF | f1 | f3 | f5 | f6 | max diff f1-f6 vs conformal "
+      "|\n|---|---|---|---|---|---|---|---|---|\n");
+  for (int m : levels) {
+    const int nx = 10 * m, half = nx / 2;
+    struct Variant {
+      const char* name;
+      std::function<CubeSpec(int, int, int)> spec;
+    };
+    const Variant variants[] = {
+        {"conformal: pyramid layer (+x faces split) between hex and tet",
+         [=](int i, int, int) {
+           return i < half - 1    ? CubeSpec{CubeFill::Hex}
+                  : i == half - 1 ? CubeSpec{CubeFill::Pyramids, 0b10}
+                                  : CubeSpec{CubeFill::Tets};
+         }},
+        {"NC: hex next to two tets on each interface face",
+         [=](int i, int, int) {
+           return i < half ? CubeSpec{CubeFill::Hex} : CubeSpec{CubeFill::Tets};
+         }},
+        {"all hex8", [](int, int, int) { return CubeSpec{CubeFill::Hex}; }},
+        {"all tet4", [](int, int, int) { return CubeSpec{CubeFill::Tets}; }},
+    };
+    std::vector<double> conf;
+    for (const Variant& v : variants) {
+      MixedMesh mesh = make_box_mesh({100, 10, 10}, nx, m, m, v.spec);
+      flag_nonconformal_quads(mesh);
+      const ModalResult r = solve(mesh, {"face:1"}, 6, 1e-3);
+      const auto& f = r.frequencies;
+      if (conf.empty()) conf = f;
+      double diff = 0;
+      for (int i = 0; i < 6; ++i) diff = std::max(diff, std::abs(f[i] / conf[i] - 1));
+      std::printf("| %d | %s | %zu | %ld | %.2f | %.1f | %.1f | %.1f | %.3f%% |\n", m, v.name,
+                  mesh.nc_cell.size(), r.num_free_dofs, f[0], f[2], f[4], f[5], 100 * diff);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -190,6 +373,11 @@ int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 2, argv + argc);
   try {
     if (study == "benchmark") return benchmark(args);
+    if (study == "ccx") return ccx_study();
+    if (study == "convergence") return convergence_study(args);
+    if (study == "euler") return euler_study();
+    if (study == "fv52") return fv52_study();
+    if (study == "nc") return nc_study(args);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_modal: %s\n", e.what());
     return 1;

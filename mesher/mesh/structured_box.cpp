@@ -47,6 +47,26 @@ void orient(CellKind kind, std::int32_t* ids, const std::vector<Vec3>& x) {
 }  // namespace
 
 MixedMesh make_box_mesh(Vec3 lengths, int nx, int ny, int nz, CellKind kind) {
+  CubeSpec spec;
+  switch (kind) {
+    case CellKind::Hex8:
+      spec.fill = CubeFill::Hex;
+      break;
+    case CellKind::Tet4:
+      spec.fill = CubeFill::Tets;
+      break;
+    case CellKind::Wedge6:
+      spec.fill = CubeFill::Wedges;
+      break;
+    case CellKind::Pyramid5:
+      spec = {CubeFill::Pyramids, 0b11};
+      break;
+  }
+  return make_box_mesh(lengths, nx, ny, nz, [spec](int, int, int) { return spec; });
+}
+
+MixedMesh make_box_mesh(Vec3 lengths, int nx, int ny, int nz,
+                        const std::function<CubeSpec(int i, int j, int k)>& spec) {
   if (nx < 1 || ny < 1 || nz < 1)
     throw Error("box mesh: cell counts must be >= 1 (got " + std::to_string(nx) + "x" +
                 std::to_string(ny) + "x" + std::to_string(nz) + ")");
@@ -68,6 +88,10 @@ MixedMesh make_box_mesh(Vec3 lengths, int nx, int ny, int nz, CellKind kind) {
   // Cube corner c (Gmsh hex order: bottom ccw from +z, then top) as lattice offsets.
   static constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                                         {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  // Cube faces -x, +x, -y, +y, -z, +z as corner cycles starting at the lowest corner, with the
+  // highest corner third: splitting along (0,2) is the Kuhn diagonal.
+  static constexpr int kFace[6][4] = {{0, 3, 7, 4}, {1, 2, 6, 5}, {0, 1, 5, 4},
+                                      {3, 2, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
   const auto emit = [&](CellKind k, std::initializer_list<std::int32_t> list) {
     std::array<std::int32_t, kMaxCellNodes> ids{};
     std::copy(list.begin(), list.end(), ids.begin());
@@ -81,15 +105,16 @@ MixedMesh make_box_mesh(Vec3 lengths, int nx, int ny, int nz, CellKind kind) {
         std::int32_t v[8];
         for (int c = 0; c < 8; ++c)
           v[c] = lattice(i + kCorner[c][0], j + kCorner[c][1], k + kCorner[c][2]);
-        switch (kind) {
-          case CellKind::Hex8:
-            emit(kind, {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
+        const CubeSpec cube = spec(i, j, k);
+        switch (cube.fill) {
+          case CubeFill::Hex:
+            emit(CellKind::Hex8, {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
             break;
-          case CellKind::Wedge6:
-            emit(kind, {v[0], v[1], v[2], v[4], v[5], v[6]});
-            emit(kind, {v[0], v[2], v[3], v[4], v[6], v[7]});
+          case CubeFill::Wedges:
+            emit(CellKind::Wedge6, {v[0], v[1], v[2], v[4], v[5], v[6]});
+            emit(CellKind::Wedge6, {v[0], v[2], v[3], v[4], v[6], v[7]});
             break;
-          case CellKind::Tet4: {
+          case CubeFill::Tets: {
             // Kuhn: walk from corner 0 to corner 6 adding one unit axis at a time.
             static constexpr int kPerm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2},
                                                 {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
@@ -101,25 +126,25 @@ MixedMesh make_box_mesh(Vec3 lengths, int nx, int ny, int nz, CellKind kind) {
                 ++o[p[s]];
                 path[s + 1] = lattice(i + o[0], j + o[1], k + o[2]);
               }
-              emit(kind, {path[0], path[1], path[2], path[3]});
+              emit(CellKind::Tet4, {path[0], path[1], path[2], path[3]});
             }
             break;
           }
-          case CellKind::Pyramid5: {
+          case CubeFill::Pyramids: {
             const auto centre = static_cast<std::int32_t>(mesh.nodes.size());
             const Vec3& a = mesh.nodes[v[0]];
             const Vec3& b = mesh.nodes[v[6]];
             mesh.nodes.push_back({(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2});
-            // Faces normal to x: two tets each, diagonal (y0,z0)-(y1,z1).
-            emit(CellKind::Tet4, {v[0], v[3], v[7], centre});
-            emit(CellKind::Tet4, {v[0], v[7], v[4], centre});
-            emit(CellKind::Tet4, {v[1], v[2], v[6], centre});
-            emit(CellKind::Tet4, {v[1], v[6], v[5], centre});
-            // Faces normal to y and z: pyramids.
-            emit(kind, {v[0], v[1], v[5], v[4], centre});
-            emit(kind, {v[3], v[2], v[6], v[7], centre});
-            emit(kind, {v[0], v[1], v[2], v[3], centre});
-            emit(kind, {v[4], v[5], v[6], v[7], centre});
+            for (int f = 0; f < 6; ++f) {
+              const std::int32_t q[4] = {v[kFace[f][0]], v[kFace[f][1]], v[kFace[f][2]],
+                                         v[kFace[f][3]]};
+              if (cube.split_faces & (1u << f)) {
+                emit(CellKind::Tet4, {q[0], q[1], q[2], centre});
+                emit(CellKind::Tet4, {q[0], q[2], q[3], centre});
+              } else {
+                emit(CellKind::Pyramid5, {q[0], q[1], q[2], q[3], centre});
+              }
+            }
             break;
           }
         }

@@ -1,6 +1,8 @@
 // Structured meshes of a box [0,Lx]x[0,Ly]x[0,Lz], for tests and validation everywhere.
 #pragma once
 
+#include <functional>
+
 #include "mesher/mesh/mixed_mesh.hpp"
 
 namespace hexfem {
@@ -18,5 +20,20 @@ namespace hexfem {
 // outward) are tagged with CAD-face ids 1..6 = x=0, x=Lx, y=0, y=Ly, z=0, z=Lz; solid id 1.
 // Throws hexfem::Error for a non-positive length or count.
 MixedMesh make_box_mesh(Vec3 lengths, int nx, int ny, int nz, CellKind kind);
+
+// The same lattice with a fill chosen per cube (i, j, k), for hand-made mixed meshes:
+//   Hex, Tets (Kuhn, as above), Wedges (as above),
+//   Pyramids: a cube-centre node and six pyramids, the faces in `split_faces` (bit f for face
+//   f = -x, +x, -y, +y, -z, +z) replaced by two tets each along the face's lowest-highest corner
+//   diagonal (the Kuhn diagonal, so a split face matches a Tets neighbour).
+// Conformity between neighbours is the caller's business: a Hex next to Tets leaves
+// non-conformal quad faces, which is what a test of those wants.
+enum class CubeFill { Hex, Tets, Wedges, Pyramids };
+struct CubeSpec {
+  CubeFill fill = CubeFill::Hex;
+  unsigned split_faces = 0;
+};
+MixedMesh make_box_mesh(Vec3 lengths, int nx, int ny, int nz,
+                        const std::function<CubeSpec(int i, int j, int k)>& spec);
 
 }  // namespace hexfem

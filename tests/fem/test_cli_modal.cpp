@@ -1,0 +1,142 @@
+// The `hexfem modal` command end to end: output, units, JSON, mode shapes, and every bad input
+// a clear error with a non-zero exit.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "mesher/mesh/mesh_io.hpp"
+#include "mesher/mesh/structured_box.hpp"
+
+namespace hexfem {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code;
+  std::string out;  // stdout and stderr together
+};
+
+CliRun hexfem(const std::string& args) {
+  const std::string cmd = std::string(HEXFEM_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  CliRun r{-1, ""};
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path work(const std::string& name) {
+  const fs::path dir = fs::path(HEXFEM_WORK_DIR) / "fem_cli";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+// 100 x 10 x 10 mm beam, hex 20x2x2, written once.
+std::string beam_msh() {
+  static const fs::path p = [] {
+    const fs::path path = work("beam_mm.msh");
+    write_mesh(make_box_mesh({100, 10, 10}, 20, 2, 2, CellKind::Hex8), path);
+    return path;
+  }();
+  return p.string();
+}
+
+TEST(ModalCli, TableStatesUnitsAndMaterial) {
+  const CliRun r = hexfem("modal " + beam_msh() + " --fix face:1 --units mm --modes 4");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("lengths in mm"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("E = 2.1e+11 Pa"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--fix face:1: 9 nodes"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("mode  frequency [Hz]"), std::string::npos) << r.out;
+}
+
+TEST(ModalCli, JsonAndUnitScaling) {
+  const CliRun mm =
+      hexfem("modal " + beam_msh() + " --fix \"x<0.001\" --units mm --modes 2 --json");
+  ASSERT_EQ(mm.code, 0) << mm.out;
+  const auto j = nlohmann::json::parse(mm.out);
+  const double f_mm = j["modes"][0]["frequency_hz"];
+  EXPECT_NEAR(j["mass_kg"].get<double>(), 7850 * 1e-5, 1e-12);
+  // The same file read as metres: a 100 m beam, frequencies 1000x lower, and a warning.
+  const CliRun si = hexfem("modal " + beam_msh() + " --fix \"x<0.001\" --modes 2 --json");
+  ASSERT_EQ(si.code, 0) << si.out;
+  const auto k = nlohmann::json::parse(si.out);
+  EXPECT_NEAR(k["modes"][0]["frequency_hz"].get<double>() * 1000, f_mm, 1e-6 * f_mm);
+  ASSERT_EQ(k["warnings"].size(), 1u);
+  EXPECT_NE(k["warnings"][0].get<std::string>().find("--units mm"), std::string::npos);
+  // Material override: f ~ sqrt(E/rho).
+  const CliRun soft =
+      hexfem("modal " + beam_msh() + " --fix \"x<0.001\" --units mm --modes 2 --json --E 52.5e9");
+  ASSERT_EQ(soft.code, 0) << soft.out;
+  EXPECT_NEAR(nlohmann::json::parse(soft.out)["modes"][0]["frequency_hz"].get<double>() * 2, f_mm,
+              1e-6 * f_mm);
+}
+
+TEST(ModalCli, ModeShapesVtu) {
+  const fs::path out = work("modes.vtu");
+  fs::remove(out);
+  const CliRun r = hexfem("modal " + beam_msh() +
+                          " --fix face:1 --units mm --modes 3 --modes-out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("Name=\"mode_3\""), std::string::npos);
+  EXPECT_NE(text.find("NumberOfPoints=\"189\""), std::string::npos);
+  EXPECT_NE(text.find("</VTKFile>"), std::string::npos);
+}
+
+void expect_error(const std::string& args, const std::string& message) {
+  const CliRun r = hexfem("modal " + args);
+  EXPECT_NE(r.code, 0) << args << "\n" << r.out;
+  EXPECT_NE(r.out.find("hexfem: error:"), std::string::npos) << args << "\n" << r.out;
+  EXPECT_NE(r.out.find(message), std::string::npos) << args << "\n" << r.out;
+}
+
+TEST(ModalCli, BadInputIsAClearError) {
+  const std::string b = beam_msh() + " --units mm ";
+  expect_error(b + "--fix face:1 --E -1", "Young's modulus E must be positive");
+  expect_error(b + "--fix face:1 --rho -7850", "density rho must be positive");
+  expect_error(b + "--fix face:1 --rho 0", "density rho must be positive");
+  expect_error(b + "--fix face:1 --nu 0.5", "Poisson's ratio nu must be in (-1, 0.5)");
+  expect_error(b + "--fix face:1 --nu 0.7", "Poisson's ratio nu must be in (-1, 0.5)");
+  expect_error(b + "--fix face:9", "no boundary face has this CAD-face id");
+  expect_error(b + "--fix \"x<-5\"", "selects no node");
+  expect_error(b, "no boundary condition");
+  expect_error(b + "--fix face:1 --modes 100000", "free DOFs");
+  expect_error(b + "--fix face:1 --modes 0", "at least 1");
+  expect_error(b + "--fix face:1 --material unobtainium", "unknown material");
+  expect_error(beam_msh() + " --fix face:1 --units inch", "--units must be SI");
+  expect_error(work("missing.msh").string() + " --fix face:1", "missing.msh");
+  // every DOF fixed
+  expect_error(b + "--fix \"x>-1\"", "every DOF is fixed");
+}
+
+TEST(ModalCli, InvertedElementIsAnError) {
+  MixedMesh m = make_box_mesh({1, 1, 1}, 2, 2, 2, CellKind::Hex8);
+  // Mirror cell 3: swap its bottom and top faces.
+  for (int i = 0; i < 4; ++i) std::swap(m.cell_nodes[8 * 3 + i], m.cell_nodes[8 * 3 + 4 + i]);
+  const fs::path p = work("inverted.msh");
+  write_mesh(m, p);
+  expect_error(p.string() + " --fix face:1", "inverted");
+}
+
+TEST(ModalCli, FreeFreeNeedsNoFix) {
+  const CliRun r = hexfem("modal " + beam_msh() + " --free --units mm --modes 7 --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  const double f7 = j["modes"][6]["frequency_hz"];
+  for (int i = 0; i < 6; ++i)
+    EXPECT_LT(std::abs(j["modes"][i]["frequency_hz"].get<double>()), 1e-6 * f7);
+}
+
+}  // namespace
+}  // namespace hexfem
