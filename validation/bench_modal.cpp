@@ -1,9 +1,10 @@
 // Modal-solver study program: `bench_modal <study> [options]`, each study prints a Markdown table
 // (validation/solver.md collects them).
-//   benchmark [k ...] [--no-ccx] [--ccx-threads N]
+//   benchmark [k ...] [--no-ccx] [--ccx-threads N] [--ccx-mem-gb G] [--ccx-cpu-s S] [--ncv N]
 //       10 modes of the 100x10x10 mm steel cantilever, hex8 (10k x k x k), clamped at x = 0:
 //       wall time, peak memory (each run in its own child process, getrusage) and the same mesh
 //       through CalculiX in the same run. Default k = 14 21 32 (~95k, ~306k, ~1.05M DOF).
+//       --ccx-mem-gb / --ccx-cpu-s cap ccx's address space / CPU time (it then counts as failed).
 //   ccx          hexfem vs ccx C3D8/C3D6/C3D4 on the 40x4x4 cantilever, relative differences.
 //   convergence  tet4 / wedge6 / pyramid+tet cantilevers converging towards hex8.
 //   euler        first bending of a slender hex beam vs Euler-Bernoulli.
@@ -106,9 +107,14 @@ int benchmark(const std::vector<std::string>& args) {
   std::vector<int> ks;
   bool run_ccx = true;
   int ccx_threads = 2, ncv = 0;
+  double ccx_mem_gb = 0, ccx_cpu_s = 0;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--no-ccx")
       run_ccx = false;
+    else if (args[i] == "--ccx-mem-gb" && i + 1 < args.size())
+      ccx_mem_gb = std::stod(args[++i]);
+    else if (args[i] == "--ccx-cpu-s" && i + 1 < args.size())
+      ccx_cpu_s = std::stod(args[++i]);
     else if (args[i] == "--ncv" && i + 1 < args.size())
       ncv = std::stoi(args[++i]);
     else if (args[i] == "--ccx-threads" && i + 1 < args.size())
@@ -150,6 +156,21 @@ int benchmark(const std::vector<std::string>& args) {
     if (run_ccx && mine.ok) {
       const MixedMesh mesh = make_box_mesh({100, 10, 10}, nx, k, k, CellKind::Hex8);
       const std::vector<std::uint8_t> fixed = select_fixed_dofs(mesh, {"face:1"});
+      // Optional caps for ccx (inherited by its process): address space and CPU seconds, so a
+      // run too big for the machine fails instead of pushing others out of memory.
+      rlimit old_as{}, old_cpu{};
+      getrlimit(RLIMIT_AS, &old_as);
+      getrlimit(RLIMIT_CPU, &old_cpu);
+      if (ccx_mem_gb > 0) {
+        rlimit r = old_as;
+        r.rlim_cur = static_cast<rlim_t>(ccx_mem_gb * 1024 * 1024 * 1024);
+        setrlimit(RLIMIT_AS, &r);
+      }
+      if (ccx_cpu_s > 0) {
+        rlimit r = old_cpu;
+        r.rlim_cur = static_cast<rlim_t>(ccx_cpu_s);
+        setrlimit(RLIMIT_CPU, &r);
+      }
       try {
         const CcxRun ccx =
             run_ccx_frequency(mesh, fixed, kSteel, modes, scratch("ccx_" + std::to_string(k)),
@@ -165,6 +186,8 @@ int benchmark(const std::vector<std::string>& args) {
         std::fprintf(stderr, "ccx k=%d: %s\n", k, e.what());
         ccx_cols = "| failed | — | — |";
       }
+      setrlimit(RLIMIT_AS, &old_as);
+      setrlimit(RLIMIT_CPU, &old_cpu);
     }
     if (!mine.ok) {
       std::printf("| %dx%dx%d | — | hexfem failed | | | | %.0f | | | | |\n", nx, k, k,

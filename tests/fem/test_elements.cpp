@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <cstdio>
 
 #include "fem/element.hpp"
 #include "fem_test_util.hpp"
@@ -120,6 +121,9 @@ TEST(Elements, ExactlySixZeroEnergyModes) {
       int zero = 0;
       for (int i = 0; i < ev.size(); ++i) zero += std::abs(ev[i]) < 1e-10 * top;
       EXPECT_EQ(zero, 6) << kind_name(kind) << (distorted ? " distorted" : "");
+      std::printf("%-8s %-10s eigenvalues of K_e: max |λ1..6| / λmax = %.1e, λ7 / λmax = %.1e\n",
+                  kind_name(kind), distorted ? "distorted" : "affine",
+                  ev.head(6).cwiseAbs().maxCoeff() / top, ev[6] / top);
       EXPECT_GT(ev[6], 1e-4 * top) << kind_name(kind) << (distorted ? " distorted" : "");
     }
 }
@@ -135,6 +139,8 @@ TEST(Elements, MassSumsToThreeRhoV) {
       const double v = volume(kind, x.data());  // quality.hpp's exact volume, independent code
       // Undistorted: exact. Distorted pyramids/hexes have non-planar faces whose volume the rule
       // integrates exactly only for the trilinear/bilinear maps (same as quality's).
+      std::printf("%-8s %-10s Σ M_e / (3 ρ V) - 1 = %.1e\n", kind_name(kind),
+                  distorted ? "distorted" : "affine", total / (3 * kSteel.rho * v) - 1);
       EXPECT_NEAR(total, 3 * kSteel.rho * v, 1e-12 * total)
           << kind_name(kind) << (distorted ? " distorted" : "");
     }
