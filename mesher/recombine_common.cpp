@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/quality.hpp"
@@ -316,6 +317,74 @@ void ConformityIndex::add(const Candidate& c) {
   const EdgeList el = edges_of(c.kind);
   for (int e = 0; e < el.count; ++e)
     edges_.insert(edge_key(c.nodes[el.e[e][0]], c.nodes[el.e[e][1]]));
+}
+
+void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScratch& scratch) {
+  const TetMesh& m = topo.mesh();
+  auto& q = scratch.quads;
+  q.clear();
+  const Vec3& pv = m.nodes[v];
+  auto corner_ok = [&](std::int32_t a, std::int32_t b) {
+    const Vec3 ea = sub(m.nodes[a], pv), eb = sub(m.nodes[b], pv);
+    const Vec3 c{ea[1] * eb[2] - ea[2] * eb[1], ea[2] * eb[0] - ea[0] * eb[2],
+                 ea[0] * eb[1] - ea[1] * eb[0]};
+    const double cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    const double aa = ea[0] * ea[0] + ea[1] * ea[1] + ea[2] * ea[2];
+    const double bb = eb[0] * eb[0] + eb[1] * eb[1] + eb[2] * eb[2];
+    return cc >= min_sin * min_sin * aa * bb;
+  };
+  auto add = [&](std::int32_t a, std::int32_t x, std::int32_t b) {
+    if (a > b) std::swap(a, b);
+    if (corner_ok(a, b)) q.push_back({a, b, x});
+  };
+  for (auto it = topo.star_begin(v); it != topo.star_end(v); ++it) {
+    const auto& T = m.tets[*it];
+    std::int32_t o[3];
+    int n = 0;
+    for (std::int32_t w : T)
+      if (w != v) o[n++] = w;
+    for (int i = 0; i < 3; ++i) {
+      // (1) Split along a-b: triangle (v, a, b) of this tet and (a, x, b) of any tet around a-b.
+      const std::int32_t a = o[i], b = o[(i + 1) % 3];
+      if (a < v || b < v) continue;
+      for (auto jt = topo.star_begin(a); jt != topo.star_end(a); ++jt) {
+        const auto& U = m.tets[*jt];
+        if (U[0] != b && U[1] != b && U[2] != b && U[3] != b) continue;
+        for (std::int32_t x : U)
+          if (x != a && x != b && x > v) add(a, x, b);
+      }
+    }
+  }
+  // (2) Split along v-x: triangles (v, a, x) and (v, x, b), a and b around edge v-x.
+  auto& link = scratch.list;
+  for (const std::int32_t* xi =
+           std::upper_bound(topo.neighbours_begin(v), topo.neighbours_end(v), v);
+       xi != topo.neighbours_end(v); ++xi) {
+    const std::int32_t x = *xi;
+    link.clear();
+    for (auto it = topo.star_begin(v); it != topo.star_end(v); ++it) {
+      const auto& T = m.tets[*it];
+      if (T[0] != x && T[1] != x && T[2] != x && T[3] != x) continue;
+      for (std::int32_t w : T)
+        if (w != v && w != x && w > v) link.push_back(w);
+    }
+    std::sort(link.begin(), link.end());
+    link.erase(std::unique(link.begin(), link.end()), link.end());
+    for (std::size_t i = 0; i < link.size(); ++i)
+      for (std::size_t j = i + 1; j < link.size(); ++j) add(link[i], x, link[j]);
+  }
+  std::sort(q.begin(), q.end());
+  q.erase(std::unique(q.begin(), q.end()), q.end());
+}
+
+std::pair<const CornerQuad*, const CornerQuad*> quads_between(const FillScratch& scratch,
+                                                              std::int32_t a, std::int32_t b) {
+  if (a > b) std::swap(a, b);
+  const CornerQuad* lo = scratch.quads.data();
+  const CornerQuad* hi = lo + scratch.quads.size();
+  const CornerQuad key_lo{a, b, std::numeric_limits<std::int32_t>::min()};
+  const CornerQuad key_hi{a, b, std::numeric_limits<std::int32_t>::max()};
+  return {std::lower_bound(lo, hi, key_lo), std::upper_bound(lo, hi, key_hi)};
 }
 
 std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find) {

@@ -94,10 +94,31 @@ struct FillRules {
 // solid and (if `used` is given) all free; every quad face either lies inside the solid or has
 // both triangles on the same CAD face; and the element's volume matches the tets'. Fills
 // c.tets. c.nodes must be set and distinct.
-struct FillScratch {  // per-thread work memory of fills_element
+// A potential quad face at vertex v: (v, a, x, b) with a < b, v's edges to a and b, x opposite;
+// made of two mesh triangles split along v-x or along a-b.
+struct CornerQuad {
+  std::int32_t a, b, x;
+  bool operator<(const CornerQuad& o) const {
+    return a != o.a ? a < o.a : b != o.b ? b < o.b : x < o.x;
+  }
+  bool operator==(const CornerQuad& o) const { return a == o.a && b == o.b && x == o.x; }
+};
+
+struct FillScratch {  // per-thread work memory of the enumerations
   std::vector<std::uint64_t> mark;
   std::uint64_t epoch = 0;
+  std::vector<CornerQuad> quads;
+  std::vector<std::int32_t> list;
 };
+
+// Every potential quad face at v whose three other corners are above v (the enumerations find
+// each element from its lowest vertex) and whose corner at v has |sin| >= min_sin: sorted,
+// unique, in scratch.quads. Every face of a hex or prism made of tets is one (its two triangles
+// are tet faces), so enumerating from these misses nothing.
+void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScratch& scratch);
+// The opposite corners x of the quads (v, a, x, b) in scratch.quads (a < b).
+std::pair<const CornerQuad*, const CornerQuad*> quads_between(const FillScratch& scratch,
+                                                              std::int32_t a, std::int32_t b);
 bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char>* used,
                    const FillRules& rules, FillScratch& scratch);
 

@@ -16,46 +16,43 @@ namespace {
 void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, const FillRules& rules,
                 FillScratch& scratch, std::vector<Candidate>& out) {
   const auto& X = topo.mesh().nodes;
-  const std::int32_t* nb = topo.neighbours_begin(v);
-  const std::int32_t* ne = topo.neighbours_end(v);
-  // Neighbours above v only (v is the lowest vertex of the hexes found from it).
-  const std::int32_t* gb = std::upper_bound(nb, ne, v);
   auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
     return corner_jacobian(X[o], X[a], X[b], X[c]) >= qmin;
   };
-  // x adjacent to a and b, above v, not in `taken`.
-  auto common = [&](std::int32_t a, std::int32_t b, std::vector<std::int32_t>& res,
-                    std::initializer_list<std::int32_t> taken) {
-    res.clear();
-    const std::int32_t* ab = std::upper_bound(topo.neighbours_begin(a), topo.neighbours_end(a), v);
-    for (const std::int32_t* it = ab; it != topo.neighbours_end(a); ++it) {
-      const std::int32_t x = *it;
-      if (std::find(taken.begin(), taken.end(), x) != taken.end()) continue;
-      if (topo.adjacent(b, x)) res.push_back(x);
-    }
-  };
-  std::vector<std::int32_t> c2, c5, c7;
-  for (const std::int32_t* i1 = gb; i1 != ne; ++i1) {
-    const std::int32_t p1 = *i1;
-    for (const std::int32_t* i3 = i1 + 1; i3 != ne; ++i3) {
-      for (const std::int32_t* i4 = i1 + 1; i4 != ne; ++i4) {
-        const std::int32_t p3 = *i3, p4 = *i4;
-        if (p3 == p4 || !ok(v, p1, p3, p4)) continue;
-        // p2 closes face (p0 p1 p2 p3), whose diagonal p0-p2 or p1-p3 is a tet edge.
-        common(p1, p3, c2, {v, p1, p3, p4});
-        if (c2.empty()) continue;
-        common(p1, p4, c5, {v, p1, p3, p4});
-        if (c5.empty()) continue;
-        common(p3, p4, c7, {v, p1, p3, p4});
-        if (c7.empty()) continue;
-        const bool d13 = topo.adjacent(p1, p3), d14 = topo.adjacent(p1, p4),
-                   d34 = topo.adjacent(p3, p4);
-        for (std::int32_t p2 : c2) {
-          if (!d13 && !topo.adjacent(v, p2)) continue;
-          for (std::int32_t p5 : c5) {
-            if (p5 == p2 || (!d14 && !topo.adjacent(v, p5)) || !ok(p1, p2, v, p5)) continue;
-            for (std::int32_t p7 : c7) {
-              if (p7 == p2 || p7 == p5 || (!d34 && !topo.adjacent(v, p7))) continue;
+  // The corner at v is three quad faces (v p1 p2 p3), (v p1 p5 p4), (v p3 p7 p4) pairwise
+  // sharing an edge at v: triangles in the graph of v's edges linked by potential quads.
+  quads_at(topo, v, qmin, scratch);
+  const auto& Q = scratch.quads;
+  for (std::size_t i = 0; i < Q.size();) {
+    // Block of quads with a = p1; within it, pairs of distinct partners q < r.
+    const std::int32_t p1 = Q[i].a;
+    std::size_t end = i;
+    while (end < Q.size() && Q[end].a == p1) ++end;
+    for (std::size_t j = i; j < end; ++j) {
+      if (j > i && Q[j - 1].b == Q[j].b) continue;
+      const std::int32_t q = Q[j].b;
+      for (std::size_t k = j + 1; k < end; ++k) {
+        if (Q[k - 1].b == Q[k].b || Q[k].b == q) continue;
+        const std::int32_t r = Q[k].b;
+        const auto qr = quads_between(scratch, q, r);
+        if (qr.first == qr.second) continue;
+        // Orientation: (p1, p3, p4) right-handed at v.
+        std::int32_t p3 = q, p4 = r;
+        if (!ok(v, p1, p3, p4)) {
+          std::swap(p3, p4);
+          if (!ok(v, p1, p3, p4)) continue;
+        }
+        const auto c2 = quads_between(scratch, p1, p3);
+        const auto c5 = quads_between(scratch, p1, p4);
+        for (const CornerQuad* q2 = c2.first; q2 != c2.second; ++q2) {
+          const std::int32_t p2 = q2->x;
+          if (p2 == p4) continue;
+          for (const CornerQuad* q5 = c5.first; q5 != c5.second; ++q5) {
+            const std::int32_t p5 = q5->x;
+            if (p5 == p2 || p5 == p3 || !ok(p1, p2, v, p5)) continue;
+            for (const CornerQuad* q7 = qr.first; q7 != qr.second; ++q7) {
+              const std::int32_t p7 = q7->x;
+              if (p7 == p1 || p7 == p2 || p7 == p5) continue;
               if (!ok(p3, v, p2, p7) || !ok(p4, p7, p5, v)) continue;
               // p6: adjacent to p2, p5 and p7.
               for (auto it =
@@ -76,7 +73,7 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, const Fill
                 c.nodes = {v, p1, p2, p3, p4, p5, p6, p7};
                 if (!fills_element(topo, c, nullptr, rules, scratch)) continue;
                 Vec3 x[8];
-                for (int k = 0; k < 8; ++k) x[k] = X[c.nodes[k]];
+                for (int n = 0; n < 8; ++n) x[n] = X[c.nodes[n]];
                 c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Hex8, x));
                 out.push_back(c);
               }
@@ -85,6 +82,7 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, const Fill
         }
       }
     }
+    i = end;
   }
 }
 

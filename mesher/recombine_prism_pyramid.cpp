@@ -26,38 +26,66 @@ void prisms_from(const TetTopology& topo, const std::vector<char>& used, std::in
   auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
     return corner_jacobian(X[o], X[a], X[b], X[c]) >= raw_min;
   };
-  const std::int32_t* ne = topo.neighbours_end(v);
-  const std::int32_t* gb = std::upper_bound(topo.neighbours_begin(v), ne, v);
-  for (const std::int32_t* i1 = gb; i1 != ne; ++i1) {
-    for (const std::int32_t* i2 = gb; i2 != ne; ++i2) {
-      const std::int32_t p1 = *i1, p2 = *i2;
-      if (p1 == p2 || !topo.adjacent(p1, p2)) continue;
-      for (const std::int32_t* i3 = gb; i3 != ne; ++i3) {
-        const std::int32_t p3 = *i3;
-        if (p3 == p1 || p3 == p2 || !ok(v, p1, p2, p3)) continue;
-        for (auto j4 = std::upper_bound(topo.neighbours_begin(p1), topo.neighbours_end(p1), v);
-             j4 != topo.neighbours_end(p1); ++j4) {
-          const std::int32_t p4 = *j4;
-          if (p4 == p2 || p4 == p3 || !topo.adjacent(p3, p4)) continue;
-          if (!topo.adjacent(v, p4) && !topo.adjacent(p1, p3)) continue;
-          if (!ok(p1, p2, v, p4)) continue;
-          for (auto j5 = std::upper_bound(topo.neighbours_begin(p2), topo.neighbours_end(p2), v);
-               j5 != topo.neighbours_end(p2); ++j5) {
-            const std::int32_t p5 = *j5;
-            if (p5 == p1 || p5 == p3 || p5 == p4) continue;
-            if (!topo.adjacent(p3, p5) || !topo.adjacent(p4, p5)) continue;
-            if (!ok(p2, v, p1, p5) || !ok(p3, p5, p4, v) || !ok(p4, p3, p5, p1) ||
-                !ok(p5, p4, p3, p2))
-              continue;
-            Candidate c;
-            c.kind = CellKind::Wedge6;
-            c.nodes = {v, p1, p2, p3, p4, p5, -1, -1};
-            if (!fills_element(topo, c, &used, rules, scratch)) continue;
-            Vec3 x[6];
-            for (int k = 0; k < 6; ++k) x[k] = X[c.nodes[k]];
-            c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Wedge6, x));
-            out.push_back(c);
-          }
+  quads_at(topo, v, raw_min, scratch);
+  // Partners of each vertex through a quad at v (both directions), sorted.
+  std::vector<std::pair<std::int32_t, std::int32_t>> partner;
+  for (const CornerQuad& q : scratch.quads) {
+    partner.emplace_back(q.a, q.b);
+    partner.emplace_back(q.b, q.a);
+  }
+  std::sort(partner.begin(), partner.end());
+  partner.erase(std::unique(partner.begin(), partner.end()), partner.end());
+  auto partners = [&](std::int32_t u) {
+    return std::equal_range(partner.begin(), partner.end(),
+                            std::pair<std::int32_t, std::int32_t>{u, 0},
+                            [](const auto& x, const auto& y) { return x.first < y.first; });
+  };
+  // Bottom triangles (v, p1, p2): faces of free tets around v.
+  std::vector<std::pair<std::int32_t, std::int32_t>> tris;
+  for (auto it = topo.star_begin(v); it != topo.star_end(v); ++it) {
+    if (used[*it]) continue;
+    std::int32_t o[3], n = 0;
+    for (std::int32_t w : topo.mesh().tets[*it])
+      if (w != v) o[n++] = w;
+    for (int i = 0; i < 3; ++i) {
+      const std::int32_t a = std::min(o[i], o[(i + 1) % 3]), b = std::max(o[i], o[(i + 1) % 3]);
+      if (a > v) tris.emplace_back(a, b);
+    }
+  }
+  std::sort(tris.begin(), tris.end());
+  tris.erase(std::unique(tris.begin(), tris.end()), tris.end());
+  for (const auto& [a, b] : tris) {
+    const auto ra = partners(a), rb = partners(b);
+    for (auto ia = ra.first; ia != ra.second; ++ia) {
+      const std::int32_t p3 = ia->second;
+      if (p3 == b ||
+          !std::binary_search(rb.first, rb.second, std::pair<std::int32_t, std::int32_t>{b, p3}))
+        continue;
+      std::int32_t p1 = a, p2 = b;
+      if (!ok(v, p1, p2, p3)) {
+        std::swap(p1, p2);
+        if (!ok(v, p1, p2, p3)) continue;
+      }
+      const auto c4 = quads_between(scratch, p1, p3);
+      const auto c5 = quads_between(scratch, p2, p3);
+      for (const CornerQuad* q4 = c4.first; q4 != c4.second; ++q4) {
+        const std::int32_t p4 = q4->x;
+        if (p4 == p2 || !ok(p1, p2, v, p4)) continue;
+        for (const CornerQuad* q5 = c5.first; q5 != c5.second; ++q5) {
+          const std::int32_t p5 = q5->x;
+          if (p5 == p1 || p5 == p4 || !topo.adjacent(p4, p5)) continue;
+          if (!topo.adjacent(p1, p5) && !topo.adjacent(p2, p4)) continue;
+          if (!ok(p2, v, p1, p5) || !ok(p3, p5, p4, v) || !ok(p4, p3, p5, p1) ||
+              !ok(p5, p4, p3, p2))
+            continue;
+          Candidate c;
+          c.kind = CellKind::Wedge6;
+          c.nodes = {v, p1, p2, p3, p4, p5, -1, -1};
+          if (!fills_element(topo, c, &used, rules, scratch)) continue;
+          Vec3 x[6];
+          for (int k = 0; k < 6; ++k) x[k] = X[c.nodes[k]];
+          c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Wedge6, x));
+          out.push_back(c);
         }
       }
     }
