@@ -38,10 +38,14 @@ using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
 using Criteria = CGAL::Delaunay_mesh_size_criteria_2<CDT>;
 
+namespace bg = boost::geometry;
 namespace bgi = boost::geometry::index;
 using BPoint = rt2::Point;
 using BBox = rt2::Box;
 using Tree = rt2::BoxTree;
+using P3 = bg::model::point<double, 3, bg::cs::cartesian>;
+using P3Tree = bgi::rtree<std::pair<P3, int>, bgi::rstar<16>>;
+constexpr double kGradation = 0.5;  // as for the edge points (edge_points.cpp)
 using v3::cross;
 using v3::dot;
 using v3::norm;
@@ -65,6 +69,12 @@ struct FaceField::Data {
   std::vector<std::array<int, 3>> tris;
   std::vector<std::array<double, 3>> value;  // cos 4θ, sin 4θ, h per background vertex
   Tree tree;
+  // Boundary points finer than the rest of the face: the size inside grows from them by at
+  // most kGradation per unit length (the Laplace solution alone would leave a coarse point
+  // facing a refined stretch of boundary).
+  std::vector<std::pair<P3, double>> fine;
+  P3Tree fine_tree;
+  double fine_min = 0;
 };
 
 FaceField::~FaceField() = default;
@@ -315,6 +325,20 @@ FaceField::FaceField(const CadModel& cad, int f, const FaceBoundary& b, const Ed
                        static_cast<int>(t));
   }
   D.tree = Tree(boxes.begin(), boxes.end());
+
+  double hmax = 0;
+  for (std::size_t i = 0; i < nb; ++i) hmax = std::max(hmax, bvalue[i][2]);
+  std::vector<std::pair<P3, int>> fine_pts;
+  D.fine_min = hmax;
+  for (std::size_t i = 0; i < nb; ++i) {
+    const double h = bvalue[i][2];
+    if (h >= 0.9 * hmax) continue;
+    const Vec3& x = points.xyz[static_cast<std::size_t>(b.node[i])];
+    fine_pts.emplace_back(P3(x[0], x[1], x[2]), static_cast<int>(D.fine.size()));
+    D.fine.emplace_back(P3(x[0], x[1], x[2]), h);
+    D.fine_min = std::min(D.fine_min, h);
+  }
+  D.fine_tree = P3Tree(fine_pts.begin(), fine_pts.end());
   if (D.tris.empty()) throw Error("face " + std::to_string(f) + ": empty parametric domain");
 }
 
@@ -372,6 +396,18 @@ Frame FaceField::frame(Vec2 uv) const {
   fr.h = val[2];
   SurfaceDerivs d = cad_->eval(face_, uv);
   fr.p = d.p;
+  const Data& D = *data_;
+  if (!D.fine.empty() && fr.h > D.fine_min) {
+    const double r = (fr.h - D.fine_min) / kGradation;
+    const auto& c = d.p;
+    for (auto it = D.fine_tree.qbegin(bgi::intersects(bg::model::box<P3>(
+             P3(c[0] - r, c[1] - r, c[2] - r), P3(c[0] + r, c[1] + r, c[2] + r))));
+         it != D.fine_tree.qend(); ++it) {
+      const auto& [q, h] = D.fine[static_cast<std::size_t>(it->second)];
+      const double dx = q.get<0>() - c[0], dy = q.get<1>() - c[1], dz = q.get<2>() - c[2];
+      fr.h = std::min(fr.h, h + kGradation * std::sqrt(dx * dx + dy * dy + dz * dz));
+    }
+  }
   fr.t1 = d.du;
   fr.t2 = d.dv;
   Vec3 n = cross(d.du, d.dv);

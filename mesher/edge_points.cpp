@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <string>
+#include <unordered_map>
 
 #include "mesher/mesh/error.hpp"
 #include "mesher/rtree2d.hpp"
@@ -12,20 +15,44 @@ namespace hexfem {
 
 namespace {
 
+namespace bg = boost::geometry;
 namespace bgi = boost::geometry::index;
 using BPoint = rt2::Point;
 using BBox = rt2::Box;
 using v3::norm;
 
+// Size bounds along each edge from the previous round (narrow faces, gradation): a
+// piecewise-linear function of t through that round's points, (t, bound) sorted by t.
+using Caps = std::vector<std::vector<std::pair<double, double>>>;
+
+double cap_at(const Caps& caps, int e, double t) {
+  const auto& c = caps[static_cast<std::size_t>(e - 1)];
+  if (c.empty()) return std::numeric_limits<double>::infinity();
+  const auto it =
+      std::lower_bound(c.begin(), c.end(), t,
+                       [](const std::pair<double, double>& a, double x) { return a.first < x; });
+  if (it == c.begin()) return it->second;
+  if (it == c.end()) return c.back().second;
+  const auto prev = it - 1;
+  const double span = it->first - prev->first;
+  const double w = span != 0 ? (t - prev->first) / span : 0.0;
+  return prev->second + w * (it->second - prev->second);
+}
+
+double capped_size(const SizeField& size, const Caps& caps, int e, double t, double s) {
+  return std::min(size.edge_size(e, t, s), cap_at(caps, e, t));
+}
+
 // Parameters of the points on edge e: equal steps of the integral of 1/size over arc length,
 // `density` times as many as the size field asks for.
-std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size, int e,
-                                    double density) {
+std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size, const Caps& caps,
+                                    int e, double density) {
   const Vec2 range = cad.edge_range(e);
   if (cad.edge_degenerate(e)) return {range[0], range[1]};
   const double length = cad.edge_length(e);
-  const int samples =
-      static_cast<int>(std::clamp(std::ceil(6 * length / size.min_size()), 32.0, 20000.0));
+  double finest = size.min_size();
+  for (const auto& c : caps[static_cast<std::size_t>(e - 1)]) finest = std::min(finest, c.second);
+  const int samples = static_cast<int>(std::clamp(std::ceil(6 * length / finest), 32.0, 20000.0));
   std::vector<double> ts(samples + 1), arc(samples + 1, 0.0), dens(samples + 1, 0.0);
   double max_kl = 0;
   for (int i = 0; i <= samples; ++i) ts[i] = range[0] + (range[1] - range[0]) * i / samples;
@@ -36,7 +63,7 @@ std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size, 
   }
   const double total = arc[samples] > 0 ? arc[samples] : 1.0;
   for (int i = 0; i <= samples; ++i) {
-    dens[i] = 1.0 / size.edge_size(e, ts[i], arc[i] / total);
+    dens[i] = 1.0 / capped_size(size, caps, e, ts[i], arc[i] / total);
     if (i % 4 == 0) max_kl = std::max(max_kl, cad.edge_curvature(e, ts[i]) * length);
   }
   std::vector<double> integral(samples + 1, 0.0);
@@ -59,8 +86,8 @@ std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size, 
   return out;
 }
 
-void build_points(const CadModel& cad, const SizeField& size, const std::vector<double>& density,
-                  EdgePoints& p) {
+void build_points(const CadModel& cad, const SizeField& size, const Caps& caps,
+                  const std::vector<double>& density, EdgePoints& p) {
   const int nv = cad.num_vertices();
   p.xyz.clear();
   p.size.clear();
@@ -74,15 +101,15 @@ void build_points(const CadModel& cad, const SizeField& size, const std::vector<
   for (int e = 1; e <= cad.num_edges(); ++e) {
     auto& ts = p.t[static_cast<std::size_t>(e - 1)];
     auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
-    ts = edge_parameters(cad, size, e, density[static_cast<std::size_t>(e - 1)]);
+    ts = edge_parameters(cad, size, caps, e, density[static_cast<std::size_t>(e - 1)]);
     const auto [v0, v1] = cad.edge_vertices(e);
     if (v0 <= 0 || v1 <= 0) throw Error("edge " + std::to_string(e) + " has no vertex at an end");
-    const double length = cad.edge_length(e);
     for (std::size_t i = 0; i < ts.size(); ++i) {
       const bool first = i == 0, last = i + 1 == ts.size();
       const double s =
           ts.size() > 1 ? static_cast<double>(i) / static_cast<double>(ts.size() - 1) : 0.0;
-      const double h = cad.edge_degenerate(e) ? size.vertex_size(v0) : size.edge_size(e, ts[i], s);
+      const double h =
+          cad.edge_degenerate(e) ? size.vertex_size(v0) : capped_size(size, caps, e, ts[i], s);
       if (first || last) {
         const int v = first ? v0 : v1;
         nodes.push_back(v - 1);
@@ -95,8 +122,125 @@ void build_points(const CadModel& cad, const SizeField& size, const std::vector<
       p.size.push_back(h);
       p.node_edge.push_back(e);
     }
-    (void)length;
   }
+}
+
+// Adds width samples for narrow faces: from each edge point of each face, a ray into the face
+// (normal to the boundary in the locally isometric parameter plane) to the first segment of
+// another edge; the 3D distance to the hit is the face's width there. A corner between two
+// edges is never hit by its own rays (they run along the other edge or away from it), so only
+// real strips and wedges are refined. Lowers target[node] to the width.
+void narrow_face_sizes(const CadModel& cad, const EdgePoints& p, double floor,
+                       std::vector<double>& target) {
+  for (int f = 1; f <= cad.num_faces(); ++f) {
+    if (cad.solids_of_face(f).empty()) continue;
+    const FaceBoundary b = face_boundary(cad, f, p);
+    const auto& ces = cad.coedges(f);
+    auto edge_of = [&](int pt) {
+      return ces[static_cast<std::size_t>(b.coedge[static_cast<std::size_t>(pt)])].edge;
+    };
+    const std::size_t n = b.uv.size();
+    std::vector<int> prev(n, -1), next(n, -1);
+    std::vector<std::pair<BBox, int>> boxes;
+    for (std::size_t si = 0; si < b.segments.size(); ++si) {
+      const auto& seg = b.segments[si];
+      next[static_cast<std::size_t>(seg[0])] = seg[1];
+      prev[static_cast<std::size_t>(seg[1])] = seg[0];
+      const Vec2& a = b.uv[static_cast<std::size_t>(seg[0])];
+      const Vec2& c = b.uv[static_cast<std::size_t>(seg[1])];
+      boxes.emplace_back(BBox(BPoint(std::min(a[0], c[0]), std::min(a[1], c[1])),
+                              BPoint(std::max(a[0], c[0]), std::max(a[1], c[1]))),
+                         static_cast<int>(si));
+    }
+    const rt2::BoxTree tree(boxes.begin(), boxes.end());
+    const auto bd = cad.uv_bounds(f);
+    const double reach = std::hypot(bd[1] - bd[0], bd[3] - bd[2]);
+    std::vector<std::pair<BBox, int>> hits;
+    for (std::size_t i = 0; i < n; ++i) {
+      const int node = b.node[i];
+      if (p.node_edge[static_cast<std::size_t>(node)] == 0 || prev[i] < 0 || next[i] < 0) continue;
+      const int e = edge_of(static_cast<int>(i));
+      const Vec2& x = b.uv[i];
+      const Vec2& xa = b.uv[static_cast<std::size_t>(prev[i])];
+      const Vec2& xb = b.uv[static_cast<std::size_t>(next[i])];
+      const SurfaceDerivs d = cad.eval(f, x);
+      const double su = norm(d.du), sv = norm(d.dv);
+      if (!(su > 0) || !(sv > 0)) continue;
+      // Tangent in the scaled plane, turned left (the face is on the left of its wires).
+      const double tx = (xb[0] - xa[0]) * su, ty = (xb[1] - xa[1]) * sv;
+      const double tl = std::hypot(tx, ty);
+      if (!(tl > 0)) continue;
+      const Vec2 dir{-ty / tl / su, tx / tl / sv};
+      const double dl = std::hypot(dir[0], dir[1]);
+      const Vec2 end{x[0] + dir[0] / dl * reach, x[1] + dir[1] / dl * reach};
+      hits.clear();
+      const bg::model::segment<BPoint> ray(BPoint(x[0], x[1]), BPoint(end[0], end[1]));
+      tree.query(bgi::intersects(ray), std::back_inserter(hits));
+      double best = std::numeric_limits<double>::infinity();
+      Vec3 hit{};
+      for (const auto& [box, si] : hits) {
+        const auto& seg = b.segments[static_cast<std::size_t>(si)];
+        if (edge_of(seg[0]) == e) continue;
+        const Vec2& a = b.uv[static_cast<std::size_t>(seg[0])];
+        const Vec2& c = b.uv[static_cast<std::size_t>(seg[1])];
+        // x + s (end - x) = a + w (c - a)
+        const double rx = end[0] - x[0], ry = end[1] - x[1];
+        const double ex = c[0] - a[0], ey = c[1] - a[1];
+        const double den = rx * ey - ry * ex;
+        if (den == 0) continue;
+        const double s = ((a[0] - x[0]) * ey - (a[1] - x[1]) * ex) / den;
+        const double w = ((a[0] - x[0]) * ry - (a[1] - x[1]) * rx) / den;
+        if (s <= 1e-12 || w < 0 || w > 1 || s >= best) continue;
+        best = s;
+        const Vec3& pa = p.xyz[static_cast<std::size_t>(b.node[static_cast<std::size_t>(seg[0])])];
+        const Vec3& pc = p.xyz[static_cast<std::size_t>(b.node[static_cast<std::size_t>(seg[1])])];
+        hit = v3::sub(pa, v3::scaled(v3::sub(pa, pc), w));
+      }
+      if (!std::isfinite(best)) continue;
+      const Vec3& px = p.xyz[static_cast<std::size_t>(node)];
+      auto& t = target[static_cast<std::size_t>(node)];
+      t = std::min(t, std::max(norm(v3::sub(hit, px)), floor));
+    }
+  }
+}
+
+namespace bg3 {
+using Point = bg::model::point<double, 3, bg::cs::cartesian>;
+using Box = bg::model::box<Point>;
+}  // namespace bg3
+
+// Sizes that grow by at most `rate` per unit length from every point's target (in 3D, across
+// edges and faces): graded[i] = min_j target[j] + rate |x_i - x_j|. A small size on one edge
+// then spreads to the edges around it, instead of facing a coarse edge across a face.
+std::vector<double> graded_sizes(const std::vector<Vec3>& x, const std::vector<double>& target,
+                                 double hmax, double rate) {
+  std::vector<std::pair<bg3::Point, int>> pts;
+  pts.reserve(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    pts.emplace_back(bg3::Point(x[i][0], x[i][1], x[i][2]), static_cast<int>(i));
+  const bgi::rtree<std::pair<bg3::Point, int>, bgi::rstar<16>> tree(pts.begin(), pts.end());
+  std::vector<int> order;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (target[i] < hmax) order.push_back(static_cast<int>(i));
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return target[static_cast<std::size_t>(a)] < target[static_cast<std::size_t>(b)];
+  });
+  std::vector<double> graded = target;
+  std::vector<std::pair<bg3::Point, int>> near;
+  for (int j : order) {
+    const double sj = graded[static_cast<std::size_t>(j)];
+    const double r = (hmax - sj) / rate;
+    const Vec3& c = x[static_cast<std::size_t>(j)];
+    near.clear();
+    tree.query(bgi::intersects(bg3::Box(bg3::Point(c[0] - r, c[1] - r, c[2] - r),
+                                        bg3::Point(c[0] + r, c[1] + r, c[2] + r))),
+               std::back_inserter(near));
+    for (const auto& [pt, i] : near) {
+      auto& g = graded[static_cast<std::size_t>(i)];
+      g = std::min(g, sj + rate * norm(v3::sub(x[static_cast<std::size_t>(i)], c)));
+    }
+  }
+  return graded;
 }
 
 }  // namespace
@@ -125,14 +269,23 @@ FaceBoundary face_boundary(const CadModel& cad, int f, const EdgePoints& p) {
         b.prev_coedge.push_back(k == 0 ? static_cast<int>(c == c0 ? c1 - 1 : c - 1) : -1);
         b.t.push_back(ts[index(k)]);
       }
-      // Where the next coedge does not start at this one's end in the parameter plane (a
-      // defective pcurve, or a wire taken out of order), the end is kept as its own point.
+      // The next coedge normally starts at this one's end: the end point is then the next
+      // one's first point (pcurves that miss each other by a tolerance are snapped together,
+      // else they could cross). Where the next coedge starts elsewhere (another vertex, a
+      // wire taken out of order, a full period away), the end is kept as its own point.
       const std::size_t next = c + 1 < c1 ? c + 1 : c0;
-      const auto& nts = p.t[static_cast<std::size_t>(ces[next].edge - 1)];
-      const double tn = ces[next].reversed ? nts.back() : nts.front();
+      const auto& nce = ces[next];
+      const auto& nts = p.t[static_cast<std::size_t>(nce.edge - 1)];
+      const auto& nnodes = p.node[static_cast<std::size_t>(nce.edge - 1)];
+      const double tn = nce.reversed ? nts.back() : nts.front();
+      const int next_node = nce.reversed ? nnodes.back() : nnodes.front();
       const Vec2 end = cad.coedge_uv(f, ci, ts[index(n - 1)]);
       const Vec2 start = cad.coedge_uv(f, static_cast<int>(next), tn);
-      if (std::hypot(end[0] - start[0], end[1] - start[1]) > gap_tol) {
+      const Vec2 before = cad.coedge_uv(f, ci, ts[index(n - 2)]);
+      const double gap = std::hypot(end[0] - start[0], end[1] - start[1]);
+      const double last_len = std::hypot(end[0] - before[0], end[1] - before[1]);
+      const bool snap = nodes[index(n - 1)] == next_node && gap <= 0.25 * last_len;
+      if (!snap && gap > gap_tol) {
         b.uv.push_back(end);
         b.node.push_back(nodes[index(n - 1)]);
         b.coedge.push_back(ci);
@@ -144,6 +297,20 @@ FaceBoundary face_boundary(const CadModel& cad, int f, const EdgePoints& p) {
     for (int i = first_point; i < last_point; ++i)
       b.segments.push_back({i, i + 1 < last_point ? i + 1 : first_point});
     c0 = c1;
+  }
+  // A vertex met by two wires (a hole touching the outer boundary) gets one (u, v), not two
+  // that differ by the pcurves' tolerance and would overlap.
+  std::unordered_map<int, std::vector<std::size_t>> seen;
+  const double snap_tol = 1e-6 * std::max(bounds[1] - bounds[0], bounds[3] - bounds[2]);
+  for (std::size_t i = 0; i < b.uv.size(); ++i) {
+    auto& list = seen[b.node[i]];
+    for (std::size_t j : list) {
+      if (std::hypot(b.uv[i][0] - b.uv[j][0], b.uv[i][1] - b.uv[j][1]) <= snap_tol) {
+        b.uv[i] = b.uv[j];
+        break;
+      }
+    }
+    list.push_back(i);
   }
   return b;
 }
@@ -171,11 +338,13 @@ std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b) {
     for (const auto& [ob, o] : hits) {
       if (o <= s) continue;
       const auto& sb = b.segments[static_cast<std::size_t>(o)];
-      if (sa[0] == sb[0] || sa[0] == sb[1] || sa[1] == sb[0] || sa[1] == sb[1]) continue;
       const Vec2 &p1 = b.uv[static_cast<std::size_t>(sa[0])],
                  &p2 = b.uv[static_cast<std::size_t>(sa[1])];
       const Vec2 &q1 = b.uv[static_cast<std::size_t>(sb[0])],
                  &q2 = b.uv[static_cast<std::size_t>(sb[1])];
+      // Segments meeting at an end point (consecutive ones, or two wires touching at a
+      // vertex) are not crossing.
+      if (p1 == q1 || p1 == q2 || p2 == q1 || p2 == q2) continue;
       const double d1 = orient(p1, p2, q1), d2 = orient(p1, p2, q2);
       const double d3 = orient(q1, q2, p1), d4 = orient(q1, q2, p2);
       // Touching counts as crossing: a point on another segment would split a constraint.
@@ -188,11 +357,14 @@ std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b) {
 EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
   std::vector<double> density(static_cast<std::size_t>(cad.num_edges()), 1.0);
   EdgePoints p;
-  constexpr int kRounds = 6;
+  Caps caps(density.size());
+  constexpr int kRounds = 8, kSizeRounds = 5;
+  constexpr double kGradation = 0.5;
   for (int round = 0;; ++round) {
-    build_points(cad, size, density, p);
+    build_points(cad, size, caps, density, p);
     std::vector<bool> refine(density.size(), false);
     int bad_face = 0;
+    std::string where;
     for (int f = 1; f <= cad.num_faces(); ++f) {
       if (cad.solids_of_face(f).empty()) continue;
       const FaceBoundary b = face_boundary(cad, f, p);
@@ -207,12 +379,45 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
           }
         }
       }
-      if (!crossings.empty() && bad_face == 0) bad_face = f;
+      if (!crossings.empty() && bad_face == 0) {
+        bad_face = f;
+        const auto& seg = b.segments[static_cast<std::size_t>(crossings[0][0])];
+        const auto& seg2 = b.segments[static_cast<std::size_t>(crossings[0][1])];
+        const Vec2 at = b.uv[static_cast<std::size_t>(seg[0])];
+        auto edge_of = [&](int pt) {
+          return cad.coedges(f)[static_cast<std::size_t>(b.coedge[static_cast<std::size_t>(pt)])]
+              .edge;
+        };
+        char msg[200];
+        std::snprintf(msg, sizeof msg, " near (u, v) = (%.6g, %.6g), edges %d and %d", at[0], at[1],
+                      edge_of(seg[0]), edge_of(seg2[0]));
+        where = msg;
+      }
     }
-    if (bad_face == 0) return p;
+    // Narrow faces get points no farther apart than they are wide, and every size grows by
+    // at most half the distance from a smaller one; the next round's edges follow these.
+    std::vector<double> target = p.size;
+    narrow_face_sizes(cad, p, size.floor(), target);
+    const std::vector<double> graded = graded_sizes(p.xyz, target, size.global(), kGradation);
+    bool finer = false;
+    for (std::size_t i = 0; i < graded.size(); ++i) finer = finer || graded[i] < 0.8 * p.size[i];
+    if (finer && round < kSizeRounds) {
+      for (int e = 1; e <= cad.num_edges(); ++e) {
+        auto& c = caps[static_cast<std::size_t>(e - 1)];
+        const auto& ts = p.t[static_cast<std::size_t>(e - 1)];
+        const auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
+        c.clear();
+        for (std::size_t k = 0; k < ts.size(); ++k)
+          c.emplace_back(ts[k], graded[static_cast<std::size_t>(nodes[k])]);
+        if (!c.empty() && c.front().first > c.back().first) std::reverse(c.begin(), c.end());
+      }
+    } else if (bad_face == 0) {
+      return p;
+    }
+    if (bad_face == 0) continue;
     if (round == kRounds)
       throw Error("face " + std::to_string(bad_face) +
-                  ": its boundary crosses itself in the parameter plane at any refinement");
+                  ": its boundary crosses itself in the parameter plane" + where);
     for (std::size_t e = 0; e < density.size(); ++e)
       if (refine[e]) density[e] *= 2;
   }

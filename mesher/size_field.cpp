@@ -37,6 +37,27 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
         uses.emplace_back(f, static_cast<int>(c));
     }
   }
+  // A vertex takes the curvature bound of the edges and faces around it, so that the 1D
+  // interpolation along every edge leaving it (a straight seam below a small fillet) starts
+  // from the size its neighbourhood asks for.
+  if (curvature_ > 0) {
+    std::vector<double> bound(vertex_size_.size(), std::numeric_limits<double>::infinity());
+    for (int e = 1; e <= cad.num_edges(); ++e) {
+      if (cad.edge_degenerate(e)) continue;
+      const auto ends = cad.edge_vertices(e);
+      const Vec2 range = cad.edge_range(e);
+      for (int k = 0; k < 2; ++k) {
+        if (ends[k] <= 0) continue;
+        double b = curvature_bound(cad.edge_curvature(e, range[k]));
+        for (const auto& [f, c] : edge_uses_[static_cast<std::size_t>(e - 1)])
+          b = std::min(b, surface_bound(f, cad.coedge_uv(f, c, range[k])));
+        auto& vb = bound[static_cast<std::size_t>(ends[k] - 1)];
+        vb = std::min(vb, b);
+      }
+    }
+    for (std::size_t v = 0; v < vertex_size_.size(); ++v)
+      vertex_size_[v] = std::min(vertex_size_[v], bound[v]);
+  }
 }
 
 double SizeField::curvature_bound(double kappa) const {

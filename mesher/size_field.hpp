@@ -28,6 +28,8 @@ class SizeField {
 
   double global() const { return h_; }
   double min_size() const { return h_min_; }
+  // The smallest size any automatic bound (curvature, narrow faces) may ask for.
+  double floor() const { return floor_; }
   double vertex_size(int v) const { return vertex_size_[static_cast<std::size_t>(v - 1)]; }
   // The size bound from a curvature kappa (infinite when the bound is off or kappa = 0).
   double curvature_bound(double kappa) const;

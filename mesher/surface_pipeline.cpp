@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <map>
 #include <optional>
 
 #include "mesher/cross_field.hpp"
@@ -163,7 +164,22 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
       owner_uv.push_back(pts[k].uv[j]);
     }
     const bool rev = cad.face_reversed(f);
+    // Two triangles on the same three nodes (a fold where a ring around an apex or pole is
+    // too small for the size, seen from both sides of the seam) cancel each other.
+    std::map<std::array<int, 3>, int> count;
+    auto key_of = [&](const std::array<int, 3>& t) {
+      std::array<int, 3> g;
+      for (int c = 0; c < 3; ++c) {
+        const int id = t[static_cast<std::size_t>(c)];
+        g[static_cast<std::size_t>(c)] =
+            id < nb ? boundary[k].node[static_cast<std::size_t>(id)] : -1 - id;
+      }
+      std::sort(g.begin(), g.end());
+      return g;
+    };
+    for (const auto& t : tris[k].triangles) ++count[key_of(t)];
     for (const auto& t : tris[k].triangles) {
+      if (count[key_of(t)] > 1) continue;
       std::array<int, 3> g;
       for (int c = 0; c < 3; ++c)
         g[static_cast<std::size_t>(c)] =

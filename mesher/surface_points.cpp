@@ -61,6 +61,35 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
     queue.push_back(id);
   }
 
+  // Boundary segments: a candidate closer than h/2 to one (3D distance to its chord) is
+  // refused, so no point slips between boundary points spaced wider than the local size.
+  std::vector<std::pair<BBox, int>> seg_boxes;
+  for (std::size_t s = 0; s < b.segments.size(); ++s) {
+    const Vec2& p = b.uv[static_cast<std::size_t>(b.segments[s][0])];
+    const Vec2& q = b.uv[static_cast<std::size_t>(b.segments[s][1])];
+    seg_boxes.emplace_back(BBox(BPoint(std::min(p[0], q[0]), std::min(p[1], q[1])),
+                                BPoint(std::max(p[0], q[0]), std::max(p[1], q[1]))),
+                           static_cast<int>(s));
+  }
+  const rt2::BoxTree seg_tree(seg_boxes.begin(), seg_boxes.end());
+  std::vector<std::pair<BBox, int>> seg_hits;
+  auto near_boundary = [&](const Vec3& x, const BBox& box, double limit) {
+    seg_hits.clear();
+    seg_tree.query(bgi::intersects(box), std::back_inserter(seg_hits));
+    for (const auto& [sb, s] : seg_hits) {
+      const auto& seg = b.segments[static_cast<std::size_t>(s)];
+      const Vec3& p =
+          points.xyz[static_cast<std::size_t>(b.node[static_cast<std::size_t>(seg[0])])];
+      const Vec3& q =
+          points.xyz[static_cast<std::size_t>(b.node[static_cast<std::size_t>(seg[1])])];
+      const Vec3 pq = v3::sub(q, p), px = v3::sub(x, p);
+      const double l2 = dot(pq, pq);
+      const double w = l2 > 0 ? std::clamp(dot(px, pq) / l2, 0.0, 1.0) : 0.0;
+      if (v3::norm(v3::sub(px, v3::scaled(pq, w))) < limit) return true;
+    }
+    return false;
+  };
+
   std::vector<std::pair<BPoint, int>> hits;
   const double k = opt.k;
   while (!queue.empty()) {
@@ -103,10 +132,9 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
       // Box of the exclusion parallelogram, widened for the surface's curvature.
       const double ex = 1.5 * (std::abs(a[0]) + std::abs(c[0])),
                    ey = 1.5 * (std::abs(a[1]) + std::abs(c[1]));
+      const BBox query(BPoint(uc[0] - ex, uc[1] - ey), BPoint(uc[0] + ex, uc[1] + ey));
       hits.clear();
-      tree.query(
-          bgi::intersects(BBox(BPoint(uc[0] - ex, uc[1] - ey), BPoint(uc[0] + ex, uc[1] + ey))),
-          std::back_inserter(hits));
+      tree.query(bgi::intersects(query), std::back_inserter(hits));
       bool free = true;
       for (const auto& [pt, j] : hits) {
         if (linf(fc, xyz[static_cast<std::size_t>(j)]) < r) {
@@ -116,7 +144,7 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
       }
       for (std::size_t q = 0; free && q < singular.size(); ++q)
         if (linf(fc, singular[q]) < r) free = false;
-      if (!free) continue;
+      if (!free || near_boundary(fc.p, query, 0.5 * fc.h)) continue;
       const int id = static_cast<int>(uv.size());
       uv.push_back(uc);
       xyz.push_back(fc.p);
