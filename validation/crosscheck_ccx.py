@@ -178,22 +178,44 @@ def positive(typ, conn, xyz):
     return conn
 
 
+def _kuhn_paths():
+    corner = {(0, 0, 0): 0, (1, 0, 0): 1, (1, 1, 0): 2, (0, 1, 0): 3, (0, 0, 1): 4, (1, 0, 1): 5,
+              (1, 1, 1): 6, (0, 1, 1): 7}
+    unit = {v: np.array(k, dtype=float) for k, v in corner.items()}
+    paths = []
+    for perm in itertools.permutations(range(3)):
+        c, path = [0, 0, 0], [0]
+        for axis in perm:
+            c[axis] = 1
+            path.append(corner[tuple(c)])
+        p = [unit[i] for i in path]
+        if np.dot(np.cross(p[1] - p[0], p[2] - p[0]), p[3] - p[0]) < 0:  # odd permutation
+            path[1], path[2] = path[2], path[1]
+        paths.append(path)
+    return paths
+
+
+KUHN = _kuhn_paths()  # the 6 tets of a hex along its diagonal 0-6 (Gmsh corner order)
+_TETS_OF = {TET: [[0, 1, 2, 3]], HEX: KUHN, PYR: [[0, 1, 2, 4], [0, 2, 3, 4]],
+            WEDGE: [[0, 1, 2, 5], [0, 1, 5, 4], [0, 4, 5, 3]]}
+
+
+def cell_volumes(typ, conn, pos):
+    """Signed volumes (sum over a split into tets; exact for tets and affine cells)."""
+    v = np.zeros(len(conn))
+    for t in _TETS_OF[typ]:
+        p = [pos[conn[:, k]] for k in t]
+        v += np.einsum("ij,ij->i", np.cross(p[1] - p[0], p[2] - p[0]), p[3] - p[0]) / 6
+    return v
+
+
 def split_box(kind, n=(20, 2, 2)):
     """The box grid cut into one kind of cell, conforming: tet4 by Kuhn's 6 tets along the main
     diagonal, wedge6 by 2 right prisms along z, pyramid5 by 6 pyramids on a centre node.
     Every cell is affine (or a right prism), where both codes' "exact" rules are exact."""
     tags, xyz, [(_, hexes)] = box_grid(n)
-    corner = {(0, 0, 0): 0, (1, 0, 0): 1, (1, 1, 0): 2, (0, 1, 0): 3, (0, 0, 1): 4, (1, 0, 1): 5,
-              (1, 1, 1): 6, (0, 1, 1): 7}
     if kind == "tet4":
-        paths = []
-        for perm in itertools.permutations(range(3)):
-            c, path = [0, 0, 0], [0]
-            for axis in perm:
-                c[axis] = 1
-                path.append(corner[tuple(c)])
-            paths.append(path)
-        conn = np.vstack([hexes[:, path] for path in paths])
+        conn = np.vstack([hexes[:, path] for path in KUHN])
         typ = TET
     elif kind == "wedge6":
         conn = np.vstack([hexes[:, [0, 1, 2, 4, 5, 6]], hexes[:, [0, 2, 3, 4, 6, 7]]])
@@ -519,6 +541,65 @@ def structured(args, out, report):
                                                   lambda p: abs(p[0]) < 1e-9, args.modes)
 
 
+FLAT = 1e-9  # a cell whose volume is below FLAT x the median cell volume counts as flat
+
+
+def tet_stiffness_scale(pts):
+    """V max_i |grad N_i|^2 of a tet: its largest stiffness entry over E (up to a factor)."""
+    A = np.hstack([np.ones((4, 1)), pts])
+    vol = abs(np.linalg.det(A)) / 6
+    try:
+        return vol * float(np.max(np.sum(np.linalg.inv(A)[1:, :] ** 2, axis=0)))
+    except np.linalg.LinAlgError:
+        return math.inf
+
+
+def drop_flat_cells(msh, out_msh):
+    """Writes the mesh without its flat cells (volume < FLAT x median, when every node stays in
+    some other cell) to out_msh; returns ([{kind, volume, nodes, stiffness scale / median tet's}],
+    median volume, cell counts left)."""
+    tags, xyz, blocks = read_msh41(msh)
+    pos = np.zeros((tags.max() + 1, 3))
+    pos[tags] = xyz
+    vols = [cell_volumes(t, c, pos) if d == 3 else None for d, _, t, c in blocks]
+    median = float(np.median(np.concatenate([v for v in vols if v is not None])))
+    cells, dropped, bfaces, scales = [], [], [], []
+    for (dim, ent, typ, conn), v in zip(blocks, vols):
+        if dim == 2:
+            bfaces.append((typ, ent, conn))
+        if dim != 3:
+            continue
+        flat = np.abs(v) < FLAT * median
+        for c, vol in zip(conn[flat].tolist(), v[flat].tolist()):
+            dropped.append({"kind": KIND[typ], "volume_mm3": vol, "nodes": c,
+                            "stiffness_scale": tet_stiffness_scale(pos[c]) if typ == TET else None})
+        if typ == TET:
+            scales += [tet_stiffness_scale(pos[c]) for c in conn[~flat].tolist()]
+        cells.append((typ, conn[~flat]))
+    if dropped:
+        used = set(np.concatenate([c.ravel() for _, c in cells]).tolist())
+        if len(used) < len(tags):
+            sys.exit("crosscheck: dropping the flat cells would leave nodes in no cell")
+        for d in dropped:
+            if d["stiffness_scale"] is not None and scales:
+                d["stiffness_scale"] /= float(np.median(scales))
+        write_msh22(out_msh, tags, xyz, cells, bfaces)
+    return dropped, median, counts_of(cells)
+
+
+def part_case(args, out, key, msh, inp, labels, incompatible):
+    r = {"hexfem": hexfem_modal(args, out, os.path.basename(msh), "face:8",
+                                os.path.join(out, f"hexfem_{key}.log"))}
+    if incompatible:
+        r["hexfem_incompatible"] = hexfem_modal(args, out, os.path.basename(msh), "face:8",
+                                                os.path.join(out, f"hexfem_{key}_i.log"),
+                                                "incompatible")
+    r["ccx"] = ccx_forms(args, out, key, inp, labels, "FACE_8")
+    r["fixed_nodes_ccx"] = len(",".join(
+        open(inp).read().split("*NSET, NSET=FACE_8\n")[1].split("*")[0].split()).split(","))
+    return r
+
+
 def steel_part(args, out, report):
     hexfem, h = args.hexfem, args.h
     step = os.path.join(ROOT, "models", "steel_part.step")
@@ -531,26 +612,27 @@ def steel_part(args, out, report):
     direct = os.path.join(out, "mesh_part_direct.inp")
     run([hexfem, "mesh", step, "--h", f"{h:g}", "-o", direct], out,
         os.path.join(out, "mesh_part_direct.log"))
-    _, _, blocks = read_msh41(msh)
-    cells = {}
-    for dim, _, typ, conn in blocks:
-        if dim == 3:
-            cells[KIND[typ]] = cells.get(KIND[typ], 0) + len(conn)
+    clean_msh = os.path.join(out, "mesh_part_clean.msh")
+    dropped, median, clean_cells = drop_flat_cells(msh, clean_msh)
     r = report["part"] = {
-        "mesh_command": shell_line(cmd), "mesh_seconds": secs, "cells": cells,
+        "mesh_command": shell_line(cmd), "mesh_seconds": secs, "cells": info.get("cells"),
         "h_vol_percent": info.get("h_vol_percent"), "h_nbr_percent": info.get("h_nbr_percent"),
         "nc_percent": info.get("nc_percent"), "inverted": info.get("inverted"),
         "mesh_volume": info.get("mesh_volume"), "cad_volume": info.get("cad_volume"),
-        "repeatable": open(direct).read() == open(inp).read()}
-    print(f"steel part h = {h:g}: {cells}, repeatable {r['repeatable']}", flush=True)
-    r["fixed_nodes_ccx"] = sum(len(l.split(",")) for l in
-                               open(inp).read().split("*NSET, NSET=FACE_8\n")[1].split("*")[0]
-                               .split())
-    r["hexfem"] = hexfem_modal(args, out, os.path.basename(msh), "face:8",
-                               os.path.join(out, "hexfem_part.log"))
-    r["hexfem_incompatible"] = hexfem_modal(args, out, os.path.basename(msh), "face:8",
-                                            os.path.join(out, "hexfem_part_i.log"), "incompatible")
-    r["ccx"] = ccx_forms(args, out, "part", inp, list(FORMS), "FACE_8")
+        "repeatable": open(direct).read() == open(inp).read(),
+        "median_cell_volume": median, "flat_cells": dropped}
+    print(f"steel part h = {h:g}: {r['cells']}, repeatable {r['repeatable']}, "
+          f"{len(dropped)} flat cell(s)", flush=True)
+    # With flat cells the problem is ill-conditioned: the as-exported run is the acceptance
+    # figure; the attribution is made where it means something, without them.
+    full = list(FORMS)
+    r["exported"] = part_case(args, out, "part", msh, inp,
+                              ["native", "exact"] if dropped else full, not dropped)
+    if dropped:
+        clean_inp = os.path.join(out, "mesh_part_clean.inp")
+        run([hexfem, "convert", clean_msh, clean_inp], out, os.path.join(out, "convert_clean.log"))
+        r["clean"] = part_case(args, out, "clean", clean_msh, clean_inp, full, True)
+        r["clean"]["cells"] = clean_cells
 
 
 # ---------------------------------------------------------------- report
@@ -610,35 +692,48 @@ def summarize(args, report):
                    ""]
     p = report.get("part")
     if p:
-        hx, c = p["hexfem"]["freq"], p["ccx"]
-        nat = c["native"]["freq"]
-        worst["part/native"] = max(abs(v) for v in relv(hx, nat, n))
-        worst["part/exact"] = max(abs(v) for v in relv(hx, c["exact"]["freq"], n))
         md += [f"### Steel part, h = {args.h:g}: " + ", ".join(f"{v} {k}" for k, v in p["cells"].items()),
-               "", "#### hexfem vs ccx on the same exported mesh (acceptance 0.5 %)", "",
-               table([("hexfem [Hz]", hx), ("ccx as exported [Hz]", nat),
-                      ("rel. diff.", relv(hx, nat, n)),
-                      ("ccx, exact formulations [Hz]", c["exact"]["freq"]),
-                      ("rel. diff. (exact)", relv(hx, c["exact"]["freq"], n))], n), "",
-               "#### What each of ccx's element formulations moves (relative to ccx as exported)", "",
-               table([("(hexfem - ccx)/ccx", relv(hx, nat, n)),
-                      ("(C3D4 mass) tets tied C3D10", relv(c["tets"]["freq"], nat, n)),
-                      ("(C3D6) wedges as C3D8", relv(c["wedges"]["freq"], nat, n)),
-                      ("(collapsed C3D8) pyramids tied C3D20", relv(c["pyramids"]["freq"], nat, n)),
-                      ("(sum of the three)", [a + b + d for a, b, d in zip(
-                          relv(c["tets"]["freq"], nat, n), relv(c["wedges"]["freq"], nat, n),
-                          relv(c["pyramids"]["freq"], nat, n))]),
-                      ("(all three at once)", relv(c["exact"]["freq"], nat, n)),
-                      ("(residual) hexfem vs ccx exact", relv(hx, c["exact"]["freq"], n))], n), ""]
-        if p.get("hexfem_incompatible") and "exact+c3d8i" in c:
-            hi = p["hexfem_incompatible"]["freq"]
-            worst["part/c3d8i"] = max(abs(v) for v in relv(hi, c["exact+c3d8i"]["freq"], n))
-            md += ["#### hexfem's default hexes (--hex8 incompatible) vs ccx C3D8I + exact others", "",
-                   table([("hexfem incompatible [Hz]", hi),
-                          ("ccx C3D8I + exact [Hz]", c["exact+c3d8i"]["freq"]),
-                          ("rel. diff.", relv(hi, c["exact+c3d8i"]["freq"], n)),
-                          ("rel. vs hexfem full hexes", relv(hi, hx, n))], n), ""]
+               ""]
+        for key, title in (("exported", "the mesh as exported"),
+                           ("clean", "the same mesh without its zero-volume cells")):
+            if key in p:
+                md += part_tables(p[key], f"{title}", n, worst, key)
     return "\n".join(md), worst
+
+
+def part_tables(r, title, n, worst, key):
+    hx, c = r["hexfem"]["freq"], r["ccx"]
+    nat = c["native"]["freq"]
+    worst[f"{key}/native"] = max(abs(v) for v in relv(hx, nat, n))
+    worst[f"{key}/exact"] = max(abs(v) for v in relv(hx, c["exact"]["freq"], n))
+    md = [f"#### hexfem vs ccx, {title}", "",
+          table([("hexfem [Hz]", hx), ("ccx as exported [Hz]", nat),
+                 ("rel. diff.", relv(hx, nat, n)),
+                 ("ccx, exact formulations [Hz]", c["exact"]["freq"]),
+                 ("rel. diff. (exact)", relv(hx, c["exact"]["freq"], n))], n), ""]
+    if "tets" in c:
+        one = {k: relv(c[k]["freq"], nat, n) for k in ("tets", "wedges", "pyramids")}
+        md += [f"#### What each of ccx's element formulations moves, {title} "
+               "(ccx with that kind made exact, relative to ccx as exported)", "",
+               table([("(hexfem - ccx)/ccx", relv(hx, nat, n)),
+                      ("(C3D4 mass) tets tied C3D10", one["tets"]),
+                      ("(C3D6) wedges as C3D8", one["wedges"]),
+                      ("(collapsed C3D8) pyramids tied C3D20", one["pyramids"]),
+                      ("(sum of the three)", [sum(v) for v in zip(*one.values())]),
+                      ("(all three at once)", relv(c["exact"]["freq"], nat, n)),
+                      ("(residual) hexfem vs ccx exact", relv(hx, c["exact"]["freq"], n))], n),
+               ""]
+    if r.get("hexfem_incompatible") and "exact+c3d8i" in c:
+        hi = r["hexfem_incompatible"]["freq"]
+        worst[f"{key}/c3d8i"] = max(abs(v) for v in relv(hi, c["exact+c3d8i"]["freq"], n))
+        md += [f"#### hexfem's default hexes (--hex8 incompatible) vs ccx C3D8I + exact others, "
+               f"{title}", "",
+               table([("hexfem incompatible [Hz]", hi),
+                      ("ccx C3D8I + exact [Hz]", c["exact+c3d8i"]["freq"]),
+                      ("rel. diff.", relv(hi, c["exact+c3d8i"]["freq"], n)),
+                      ("rel. vs hexfem full hexes", relv(hi, hx, n))], n), ""]
+    return md
+
 
 
 def main():
@@ -680,8 +775,12 @@ def main():
             json.dump(report, f, indent=1)
     checks = [("pure hex, hexfem hex8 vs ccx C3D8", max(worst["hex/native"],
                                                         worst["hex_jitter/native"]), TOL_HEX)]
-    if "part/native" in worst:
-        checks.append(("steel part, hexfem vs ccx as exported", worst["part/native"], TOL_MIXED))
+    if "exported/native" in worst:
+        checks.append(("steel part, hexfem vs ccx on the exported mesh", worst["exported/native"],
+                       TOL_MIXED))
+    if "clean/native" in worst:
+        checks.append(("steel part without its zero-volume cells, hexfem vs ccx as exported",
+                       worst["clean/native"], TOL_MIXED))
     ok = True
     for what, value, tol in checks:
         ok = ok and value <= tol
