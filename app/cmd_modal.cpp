@@ -1,10 +1,12 @@
-// `hexfem modal mesh.msh --fix SPEC... [--material steel | --E --nu --rho] [--modes 10]
-//  [--units SI|mm] [--json] [--modes-out modes.vtu]`: natural frequencies of a meshed solid.
+// `hexfem modal mesh.msh|part.step [--h 1.0] --fix SPEC... [--material steel | --E --nu --rho]
+//  [--modes 10] [--units SI|mm] [--hex8 incompatible|full] [--json] [--modes-out modes.vtu]`:
+// natural frequencies of a meshed solid, or of a CAD part meshed hex-dominant in the same run.
 // The reusable parts live in fem/ (solve_modal, select_fixed_nodes); this file only reads the
 // mesh, states units and material, and prints.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -12,6 +14,7 @@
 #include <vector>
 
 #include "app/command_registry.hpp"
+#include "app/part_modal.hpp"
 #include "fem/boundary.hpp"
 #include "fem/material.hpp"
 #include "fem/modal_solver.hpp"
@@ -32,6 +35,10 @@ struct Args {
   std::string units = "SI";
   bool json = false;
   std::string modes_out;
+  std::string hex8 = "incompatible";
+  // CAD input only: mesh size (mm) and where to write the mesh.
+  double h = 0;
+  std::string mesh_out;
 };
 
 struct Units {
@@ -90,18 +97,42 @@ int run(const Args& a) {
   validate(mat);
   if (a.modes < 1) throw Error("--modes must be at least 1 (got " + std::to_string(a.modes) + ")");
 
-  const MixedMesh mesh = read_mesh(a.mesh);
-  std::vector<std::string> warnings = unit_warnings(mesh, units);
-  std::vector<std::size_t> fixed_nodes;
-  for (const std::string& spec : a.fix)
-    fixed_nodes.push_back(select_fixed_nodes(mesh, spec).nodes.size());
-
+  if (a.hex8 != "incompatible" && a.hex8 != "full")
+    throw Error("--hex8 must be incompatible or full (got '" + a.hex8 + "')");
   ModalOptions opt;
   opt.material = mat;
   opt.fix = a.fix;
   opt.num_modes = a.modes;
   opt.length_scale = units.scale;
-  const ModalResult r = solve_modal(mesh, opt);
+  opt.incompatible_hex = a.hex8 == "incompatible";
+
+  // A CAD part is meshed first (lengths in mm) and solved in the same process.
+  const bool cad_input = is_cad_file(a.mesh);
+  MixedMesh mesh;
+  ModalResult r;
+  PartModalResult part;
+  if (cad_input) {
+    if (!(a.h > 0)) throw Error("a CAD input needs a mesh size: --h > 0 (mm)");
+    if (a.units != "SI" && a.units != "mm") parse_units(a.units);
+    if (!std::filesystem::exists(a.mesh)) throw Error("file not found: '" + a.mesh + "'");
+    const CadModel cad = CadModel::read(a.mesh);
+    MeshOptions mesh_options;
+    mesh_options.surface.h = a.h;
+    part = run_part_modal(cad, mesh_options, opt);
+    mesh = std::move(part.mesh);
+    r = std::move(part.modal);
+    if (!a.mesh_out.empty()) write_mesh(mesh, a.mesh_out);
+  } else {
+    if (a.h > 0) throw Error("--h is for CAD input; '" + a.mesh + "' is already a mesh");
+    mesh = read_mesh(a.mesh);
+    r = solve_modal(mesh, opt);
+  }
+  const Units shown = cad_input ? Units{"mm", 1e-3} : units;
+  std::vector<std::string> warnings =
+      cad_input ? std::vector<std::string>{} : unit_warnings(mesh, units);
+  std::vector<std::size_t> fixed_nodes;
+  for (const std::string& spec : a.fix)
+    fixed_nodes.push_back(select_fixed_nodes(mesh, spec).nodes.size());
 
   // Rigid-body modes left although DOFs are fixed: legitimate for partial supports (NAFEMS
   // FV52), a mistake otherwise; say so either way.
@@ -123,8 +154,20 @@ int run(const Args& a) {
                  {"cells", mesh.num_cells()},
                  {"nc_quad_faces", mesh.nc_cell.size()}};
     for (int k = 0; k < kNumCellKinds; ++k) j["mesh"][kind_name(CellKind(k))] = count[k];
-    j["units"] = {{"length", units.name == "SI" ? "m" : "mm"},
-                  {"scale_to_m", units.scale},
+    if (cad_input) {
+      j["mesh"]["h"] = a.h;
+      j["mesh"]["H_nbr"] = part.stats.h_nbr;
+      j["mesh"]["H_vol"] = part.stats.h_vol;
+      j["mesh"]["Q"] = part.stats.q_mean;
+      j["mesh"]["NC"] = part.stats.nc_percent;
+      j["mesh"]["inverted"] = part.stats.inverted;
+      j["mesh"]["volume_error"] = part.mesh_report.volume_error;
+      j["mesh"]["mesh_seconds"] = part.mesh_seconds;
+      if (!a.mesh_out.empty()) j["mesh"]["written"] = a.mesh_out;
+    }
+    j["hex8"] = a.hex8;
+    j["units"] = {{"length", shown.name == "SI" ? "m" : "mm"},
+                  {"scale_to_m", shown.scale},
                   {"material", "SI (Pa, kg/m^3)"},
                   {"frequency", "Hz"}};
     j["material"] = {{"name", mat.name}, {"E", mat.E}, {"nu", mat.nu}, {"rho", mat.rho}};
@@ -161,8 +204,17 @@ int run(const Args& a) {
       first = false;
     }
   std::printf("), %zu non-conformal quad faces\n", mesh.nc_cell.size());
+  if (cad_input)
+    std::printf(
+        "hexmesh   h = %g mm: H_nbr %.2f %%, H_vol %.2f %%, Q %.3f, NC %.2f %%, inverted %zu, "
+        "volume error %+.2e (%.2f s)%s%s\n",
+        a.h, part.stats.h_nbr, part.stats.h_vol, part.stats.q_mean, part.stats.nc_percent,
+        part.stats.inverted, part.mesh_report.volume_error, part.mesh_seconds,
+        a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
+  std::printf("elements  hex8 %s\n", a.hex8 == "full" ? "fully integrated 2x2x2 (= CalculiX C3D8)"
+                                                      : "with incompatible modes (C3D8I-like)");
   std::printf("units     lengths in %s (x %g -> m), material in SI, frequencies in Hz\n",
-              units.name == "SI" ? "m" : "mm", units.scale);
+              shown.name == "SI" ? "m" : "mm", shown.scale);
   std::printf("material  %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", mat.name.c_str(), mat.E,
               mat.nu, mat.rho);
   if (a.fix.empty()) std::printf("boundary  free-free (six rigid-body modes expected near 0 Hz)\n");
@@ -189,10 +241,18 @@ int run(const Args& a) {
 }
 
 RegisterCommand reg{
-    {"modal", "Natural frequencies and mode shapes of a meshed solid (linear elasticity)",
+    {"modal", "Natural frequencies of a CAD part (meshed hex-dominant first) or of a mesh",
      [](CLI::App& sub) {
        auto a = std::make_shared<Args>();
-       sub.add_option("mesh", a->mesh, "volume mesh (.msh)")->required();
+       sub.add_option("mesh", a->mesh,
+                      "volume mesh (.msh), or a CAD part (.step .iges .brep, lengths in mm) that "
+                      "is meshed first with --h")
+           ->required();
+       sub.add_option("--h", a->h, "CAD input: target element size in mm");
+       sub.add_option("--mesh-out", a->mesh_out, "CAD input: also write the mesh (.msh .vtu .inp)");
+       sub.add_option("--hex8", a->hex8,
+                      "hex formulation: incompatible (default, bending-accurate) or full "
+                      "(= CalculiX C3D8)");
        sub.add_option("--fix", a->fix,
                       "fixed DOFs, repeatable: face:3,7 | group:NAME | \"x<0.001\" | "
                       "\"z<1e-3&x>9.99\"; append @xyz to fix only some components "

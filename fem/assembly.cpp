@@ -6,6 +6,7 @@
 #include <string>
 
 #include "fem/element.hpp"
+#include "fem/hex8_incompatible.hpp"
 #include "mesher/mesh/error.hpp"
 
 namespace hexfem {
@@ -102,7 +103,7 @@ inline void atomic_add(double& target, double value) {
 }  // namespace
 
 SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const DofMap& dofs,
-                               double length_scale) {
+                               double length_scale, bool incompatible_hex) {
   validate(mat);
   if (dofs.dof.size() != 3 * mesh.nodes.size())
     throw Error("assemble_system: DOF map does not match the mesh");
@@ -129,7 +130,10 @@ SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const
       const std::int32_t* ids = mesh.cell(c);
       for (int i = 0; i < n; ++i)
         for (int d = 0; d < 3; ++d) x[i][d] = mesh.nodes[ids[i]][d] * length_scale;
-      if (!(element_matrices(ref, x, mat, Ke, me) > 0)) {
+      const bool bad = !(element_matrices(ref, x, mat, Ke, me) > 0) ||
+                       (incompatible_hex && kind == CellKind::Hex8 &&
+                        !(hex8_incompatible_stiffness(x, mat, Ke) > 0));
+      if (bad) {
         long expected = bad_cell.load();
         while (c < expected && !bad_cell.compare_exchange_weak(expected, c)) {
         }

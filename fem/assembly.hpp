@@ -24,8 +24,10 @@ struct SystemMatrices {
 // Assembles K and M; coordinates are multiplied by `length_scale` (e.g. 1e-3 for a mesh in mm
 // with SI material). Throws hexfem::Error if a cell has a non-positive Jacobian at a quadrature
 // point, or for an invalid material. Runs over the cells in parallel when OpenMP is available.
+// incompatible_hex: hexes get the incompatible-modes stiffness (hex8_incompatible.hpp) instead
+// of the fully integrated one (= CalculiX C3D8).
 SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const DofMap& dofs,
-                               double length_scale = 1.0);
+                               double length_scale = 1.0, bool incompatible_hex = false);
 
 // The node adjacency (nodes sharing a cell, itself excluded) as CSR: neighbours of node i are
 // adj[ptr[i] .. ptr[i+1]), sorted. Used for the matrix pattern and for fill-reducing orders.

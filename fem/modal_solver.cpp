@@ -222,7 +222,8 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
   if (options.num_modes >= dofs.num_free)
     throw Error("requested " + std::to_string(options.num_modes) +
                 " modes but the model has only " + std::to_string(dofs.num_free) + " free DOFs");
-  const SystemMatrices sys = assemble_system(mesh, options.material, dofs, options.length_scale);
+  const SystemMatrices sys =
+      assemble_system(mesh, options.material, dofs, options.length_scale, options.incompatible_hex);
 
   ModalResult out;
   out.assemble_seconds = seconds_since(t0) - order_seconds;

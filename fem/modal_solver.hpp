@@ -47,7 +47,10 @@ struct ModalOptions {
   std::vector<std::string> fix;  // --fix specs (boundary.hpp); empty = free-free
   int num_modes = 10;
   double length_scale = 1.0;  // mesh coordinates * length_scale = metres
-  EigenOptions eigen;         // num_modes is taken from above
+  // Hexes with incompatible modes (bending-accurate, C3D8I-like) instead of the fully
+  // integrated trilinear hex (= CalculiX C3D8, which locks in bending).
+  bool incompatible_hex = false;
+  EigenOptions eigen;  // num_modes is taken from above
 };
 
 struct ModalResult {
