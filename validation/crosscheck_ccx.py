@@ -759,7 +759,15 @@ def main():
     args.hex8_option = "--hex8" in help_text
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
-    report = {"h": args.h, "hexfem": args.hexfem, "out": out, "argv": sys.argv[1:]}
+    git = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"],
+                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True).stdout
+    ccx_version = subprocess.run(["ccx", "-v"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                 text=True).stdout.strip()
+    report = {"h": args.h, "hexfem": args.hexfem, "out": out, "argv": sys.argv[1:],
+              "source": git.strip(), "ccx": ccx_version,
+              "hexfem_binary_mtime": time.ctime(os.path.getmtime(args.hexfem))}
+    print(f"hexfem {args.hexfem} (built {report['hexfem_binary_mtime']}, tree {report['source']}); "
+          f"{ccx_version}", flush=True)
     t0 = time.time()
     structured(args, out, report)
     if not args.skip_part:
