@@ -2,31 +2,22 @@
 """Cross-check of hexfem's modal solver against CalculiX 2.20 on the SAME mesh (issue 6, item 5).
 
   validation/crosscheck_ccx.py [--h 1.0] [--out validation/out/crosscheck] [--hexfem BIN]
-                               [--modes 10] [--compare 6] [--json FILE] [--skip-part]
+      [--modes 10] [--compare 6] [--json FILE] [--skip-part] [--reuse-ccx] [--timeout S]
 
-1. Steel part (models/steel_part.step, clamped on CAD face 8, x = 0): `hexfem mesh` -> .msh,
-   `hexfem convert` -> .inp (also `hexfem mesh -o .inp` to check that meshing is repeatable).
-   Variants of that mesh, each written as MSH 2.2 and exported by `hexfem convert`, so both codes
-   read exactly the same nodes and cells:
-     mixed     the mesh as made (hex8, wedge6, pyramid5, tet4)
-     pyr-tet   each pyramid split into 2 tets (base diagonal through its smallest node id)
-     all-tet   pyramids -> 2 tets and wedges -> 3 tets (Dompierre et al. 1999 rule, conforming
-               between split cells); hex8 + tet4 only, where both codes use the same elements
-   hexfem: `hexfem modal V.msh --fix face:8 --units mm --json`.
-   ccx, two decks per variant that has wedges:
-     native    the exported .inp: wedges C3D6 (1 x 2 points, under-integrated), pyramids C3D8
-               with the apex repeated (2x2x2 Gauss-Legendre: exact stiffness, inexact mass)
-     w-c3d8    wedges rewritten as C3D8 with nodes 1 2 3 3 4 5 6 6 (same linear field, 2x2x2
-               Gauss: exact on a right prism, like hexfem's 3 x 2 rule)
-   Attribution: mixed/w-c3d8 differs from hexfem by the pyramids only; pyr-tet/native by the
-   C3D6 wedges only; all-tet must agree to the solvers' precision.
-2. Pure hex: a structured 100 x 10 x 10 mm cantilever 40 x 4 x 4 (affine cells) and the same
-   grid with every node moved at random (trilinear cells), clamped at x = 0: C3D8 = hexfem hex8.
-
-Units: mm, N, tonne: E = 210000 MPa, rho = 7.85e-9 t/mm^3 -> Hz; hexfem gets the same as
-steel (SI) with --units mm. ccx eigenvalues are read at full precision from the binary .eig file
-(*FREQUENCY, STORAGE=YES) and checked against the 7 digits of the .dat.
-Only stdlib + numpy. Run with /usr/bin/python3.
+Both codes read the same nodes and cells: meshes go to hexfem as .msh and to ccx as the .inp that
+`hexfem convert` writes. ccx runs each mesh as exported (C3D8, C3D6, C3D4, pyramids as C3D8 with
+the apex repeated) and with kinds rewritten so that ccx integrates hexfem's field exactly (see
+inp_with_formulations): the difference per kind is the attribution.
+1. Structured 100 x 10 x 10 mm cantilevers clamped at x = 0: 40 x 4 x 4 hex8, the same jittered
+   (acceptance 1e-6), and one-kind boxes (tet4, wedge6, pyramid5); the tet box also against a
+   dense numpy assembly that shares no code with either.
+2. The steel part (models/steel_part.step, CAD face 8 clamped): `hexfem mesh --h H`, then the mesh
+   as exported (acceptance 0.5 %) and, if it holds zero-volume cells, the same mesh without them,
+   with every formulation.
+Units: mm, N, tonne (E = 210000 MPa, rho = 7.85e-9 t/mm^3) -> Hz; hexfem: steel, --units mm,
+--hex8 full (= C3D8) and incompatible (vs C3D8I, informative). ccx eigenvalues are read at full
+precision from the .eig of *FREQUENCY, STORAGE=YES, checked against the 7 digits of the .dat.
+Only stdlib + numpy; run with /usr/bin/python3. Exit status 1 if an acceptance check fails.
 """
 import argparse
 import hashlib
@@ -260,8 +251,9 @@ def numpy_tet4_modes(tags, xyz, tets, clamp, nmodes):
                                      [gz, 0, gx]]
         dof = np.array([[3 * n, 3 * n + 1, 3 * n + 2] for n in ids]).ravel()
         K[np.ix_(dof, dof)] += V * B.T @ D @ B
-        Mc[np.ix_(dof, dof)] += np.kron(RHO_T_MM3 * V / 20 * (np.ones((4, 4)) + np.eye(4)), np.eye(3))
-        M1[np.ix_(dof, dof)] += np.kron(RHO_T_MM3 * V / 16 * np.ones((4, 4)), np.eye(3))
+        m = RHO_T_MM3 * V
+        Mc[np.ix_(dof, dof)] += np.kron(m / 20 * (np.ones((4, 4)) + np.eye(4)), np.eye(3))
+        M1[np.ix_(dof, dof)] += np.kron(m / 16 * np.ones((4, 4)), np.eye(3))
     free = np.array([d for d in range(ndof) if not clamp(xyz[d // 3])])
     Linv = np.linalg.inv(np.linalg.cholesky(K[np.ix_(free, free)]))
     res = {}
@@ -294,7 +286,7 @@ def inp_nodes(path):
 #            uses the centroid only)
 #   wedge6   c3d8: C3D8 with nodes 1 2 3 3 4 5 6 6 (the linear wedge field, 2x2x2 Gauss: exact on a
 #            right prism; C3D6 uses 1 x 2 points)
-#   pyramid5 tied20: C3D20 collapsed to the apex (corners 1 2 3 4 5 5 5 5, top mid-edge nodes = apex),
+#   pyramid5 tied20: C3D20 collapsed to the apex (corners 1 2 3 4 5 5 5 5, top mid-edges = apex),
 #            other mid-edge nodes tied to the edge's mean: the field of the collapsed C3D8, which is
 #            the rational pyramid's, integrated with 3x3x3 Gauss, exact for the mass of an affine
 #            pyramid (the collapsed C3D8's 2x2x2 rule is not)
@@ -346,8 +338,6 @@ def inp_with_formulations(src, dst, form):
                             for i in range(min(mids.values()), next_id)]
                     out.append("*EQUATION")
                     for (a, b), m in sorted(mids.items(), key=lambda kv: kv[1]):
-                        if m in (a, b):
-                            continue
                         for c in (1, 2, 3):
                             out += ["3", f"{m},{c},1.,{a},{c},-0.5,{b},{c},-0.5"]
             out.append(line)
@@ -653,6 +643,10 @@ def relv(a, b, n):
     return [rel(x, y) for x, y in zip(a[:n], b[:n])]
 
 
+def maxrel(a, b, n):
+    return max(abs(v) for v in relv(a, b, n))
+
+
 def summarize(args, report):
     n, md, worst = args.compare, [], {}
     st = report.get("structured", {})
@@ -661,39 +655,33 @@ def summarize(args, report):
                "| mesh | cells | hexfem vs ccx as exported | hexfem vs ccx, exact formulation"
                " | hexfem (--hex8 incompatible) vs ccx C3D8I |", "|---|---|---:|---:|---:|"]
         for key, r in st.items():
-            hx = r["hexfem"]["freq"]
-            nat = max(abs(v) for v in relv(hx, r["ccx"]["native"]["freq"], n))
-            worst[f"{key}/native"] = nat
+            hx, c = r["hexfem"]["freq"], r["ccx"]
+            worst[f"{key}/native"] = maxrel(hx, c["native"]["freq"], n)
             lab = r.get("exact_label")
-            ex = (f"{max(abs(v) for v in relv(hx, r['ccx'][lab]['freq'], n)):.1e} ({lab})"
-                  if lab else "-")
+            ex = f"{maxrel(hx, c[lab]['freq'], n):.1e} ({lab})" if lab else "-"
             inc = "-"
-            if r.get("hexfem_incompatible") and "exact+c3d8i" in r["ccx"]:
-                inc = f"{max(abs(v) for v in relv(r['hexfem_incompatible']['freq'], r['ccx']['exact+c3d8i']['freq'], n)):.1e}"
+            if r.get("hexfem_incompatible") and "exact+c3d8i" in c:
+                inc = f"{maxrel(r['hexfem_incompatible']['freq'], c['exact+c3d8i']['freq'], n):.1e}"
             cells = ", ".join(f"{v} {k}" for k, v in r["cells"].items() if v)
-            md.append(f"| {key} | {cells} | {nat:.1e} | {ex} | {inc} |")
+            md.append(f"| {key} | {cells} | {worst[f'{key}/native']:.1e} | {ex} | {inc} |")
         md.append("")
         for key in ("hex", "hex_jitter"):
-            r = st[key]
+            hx, cx = st[key]["hexfem"]["freq"], st[key]["ccx"]["native"]["freq"]
             md += [f"#### {key}: hexfem hex8 (2x2x2 Gauss) vs ccx C3D8, acceptance 1e-6", "",
-                   table([("hexfem [Hz]", r["hexfem"]["freq"]),
-                          ("ccx C3D8 [Hz]", r["ccx"]["native"]["freq"]),
-                          ("rel. diff.", relv(r["hexfem"]["freq"], r["ccx"]["native"]["freq"], n))], n),
-                   ""]
+                   table([("hexfem [Hz]", hx), ("ccx C3D8 [Hz]", cx),
+                          ("rel. diff.", relv(hx, cx, n))], n), ""]
         if "tet4" in st and "numpy" in st["tet4"]:
-            r = st["tet4"]
+            hx, cx = st["tet4"]["hexfem"]["freq"], st["tet4"]["ccx"]["native"]["freq"]
+            npc, np1 = st["tet4"]["numpy"]["consistent"], st["tet4"]["numpy"]["centroid"]
             md += ["#### tet4 box: hexfem and ccx against an independent numpy assembly", "",
-                   table([("hexfem [Hz]", r["hexfem"]["freq"]),
-                          ("numpy, exact consistent mass [Hz]", r["numpy"]["consistent"]),
-                          ("ccx C3D4 [Hz]", r["ccx"]["native"]["freq"]),
-                          ("numpy, centroid mass [Hz]", r["numpy"]["centroid"]),
-                          ("rel hexfem vs numpy consistent", relv(r["hexfem"]["freq"], r["numpy"]["consistent"], n)),
-                          ("rel ccx C3D4 vs numpy centroid", relv(r["ccx"]["native"]["freq"], r["numpy"]["centroid"], n))], n),
-                   ""]
+                   table([("hexfem [Hz]", hx), ("numpy, exact consistent mass [Hz]", npc),
+                          ("ccx C3D4 [Hz]", cx), ("numpy, centroid mass [Hz]", np1),
+                          ("rel hexfem vs numpy consistent", relv(hx, npc, n)),
+                          ("rel ccx C3D4 vs numpy centroid", relv(cx, np1, n))], n), ""]
     p = report.get("part")
     if p:
-        md += [f"### Steel part, h = {args.h:g}: " + ", ".join(f"{v} {k}" for k, v in p["cells"].items()),
-               ""]
+        md += [f"### Steel part, h = {args.h:g}: "
+               + ", ".join(f"{v} {k}" for k, v in p["cells"].items()), ""]
         for key, title in (("exported", "the mesh as exported"),
                            ("clean", "the same mesh without its zero-volume cells")):
             if key in p:
