@@ -125,6 +125,31 @@ void build_points(const CadModel& cad, const SizeField& size, const Caps& caps,
   }
 }
 
+// Unit tangent of edge e leaving its vertex v.
+Vec3 tangent_from(const CadModel& cad, int e, int v) {
+  const auto ends = cad.edge_vertices(e);
+  const Vec2 r = cad.edge_range(e);
+  const bool first = ends[0] == v;
+  const Vec3 d = cad.edge_derivative(e, first ? r[0] : r[1]);
+  const double l = norm(d);
+  if (!(l > 0)) return {0, 0, 0};
+  return v3::scaled(d, (first ? 1.0 : -1.0) / l);
+}
+
+// Whether edges a and b meet at a vertex at an angle below 10° (a tangent cusp): the width
+// across a cusp shrinks to nothing, and refining toward it only makes thinner triangles.
+bool tangent_corner(const CadModel& cad, int a, int b) {
+  if (cad.edge_degenerate(a) || cad.edge_degenerate(b)) return false;
+  const auto va = cad.edge_vertices(a), vb = cad.edge_vertices(b);
+  for (int v : va) {
+    if (v != vb[0] && v != vb[1]) continue;
+    if (v3::dot(tangent_from(cad, a, v), tangent_from(cad, b, v)) >
+        std::cos(10 * 3.14159265358979 / 180))
+      return true;
+  }
+  return false;
+}
+
 // Adds width samples for narrow faces: from each edge point of each face, a ray into the face
 // (normal to the boundary in the locally isometric parameter plane) to the first segment of
 // another edge; the 3D distance to the hit is the face's width there. A corner between two
@@ -180,7 +205,7 @@ void narrow_face_sizes(const CadModel& cad, const EdgePoints& p, double floor,
       Vec3 hit{};
       for (const auto& [box, si] : hits) {
         const auto& seg = b.segments[static_cast<std::size_t>(si)];
-        if (edge_of(seg[0]) == e) continue;
+        if (edge_of(seg[0]) == e || tangent_corner(cad, e, edge_of(seg[0]))) continue;
         const Vec2& a = b.uv[static_cast<std::size_t>(seg[0])];
         const Vec2& c = b.uv[static_cast<std::size_t>(seg[1])];
         // x + s (end - x) = a + w (c - a)

@@ -99,6 +99,12 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
     if (!fr.ok || !(fr.h > 0)) continue;
     const Vec3 dirs[4] = {
         fr.d1, fr.d2, {-fr.d1[0], -fr.d1[1], -fr.d1[2]}, {-fr.d2[0], -fr.d2[1], -fr.d2[2]}};
+    // Parametric extent of the spawning point's h-square, for the quick test below.
+    Vec2 s1, s2;
+    if (!parametric_step(fr, v3::scaled(fr.d1, fr.h), s1) ||
+        !parametric_step(fr, v3::scaled(fr.d2, fr.h), s2))
+      continue;
+    const Vec2 box0{std::abs(s1[0]) + std::abs(s2[0]), std::abs(s1[1]) + std::abs(s2[1])};
     for (const Vec3& dir : dirs) {
       ++out.candidates;
       Vec2 du;
@@ -108,12 +114,11 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
       const Vec2 u0 = uv[static_cast<std::size_t>(i)];
       Vec2 uc{u0[0] + du[0], u0[1] + du[1]};
       double s = 1;
-      for (int it = 0; it < 3; ++it) {
-        const Vec3 x = cad.point(f, uc);
-        const double dist =
-            std::sqrt((x[0] - fr.p[0]) * (x[0] - fr.p[0]) + (x[1] - fr.p[1]) * (x[1] - fr.p[1]) +
-                      (x[2] - fr.p[2]) * (x[2] - fr.p[2]));
-        if (!(dist > 0) || std::abs(dist / fr.h - 1) < 1e-3) break;
+      Vec3 x{};
+      for (int it = 0; it < 4; ++it) {
+        x = cad.point(f, uc);
+        const double dist = v3::norm(v3::sub(x, fr.p));
+        if (!(dist > 0) || std::abs(dist / fr.h - 1) < 1e-3 || it == 3) break;
         s *= std::clamp(fr.h / dist, 0.5, 2.0);
         uc = {u0[0] + s * du[0], u0[1] + s * du[1]};
       }
@@ -121,7 +126,26 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
       if (uc[0] < bounds[0] - tol_u || uc[0] > bounds[1] + tol_u || uc[1] < bounds[2] - tol_v ||
           uc[1] > bounds[3] + tol_v)
         continue;
-      if (!cad.contains(f, uc)) continue;
+      // Most candidates land on a point already there: a cheap test in the spawning point's
+      // frame first, with a square small enough to lie inside the candidate's own (its size
+      // is at least half the spawning one's, its frame turned by any angle).
+      {
+        const double r0 = 0.35 * k * fr.h;
+        const double ex = 1.5 * 0.35 * k * box0[0], ey = 1.5 * 0.35 * k * box0[1];
+        hits.clear();
+        tree.query(
+            bgi::intersects(BBox(BPoint(uc[0] - ex, uc[1] - ey), BPoint(uc[0] + ex, uc[1] + ey))),
+            std::back_inserter(hits));
+        Frame centred = fr;
+        centred.p = x;
+        bool taken = false;
+        for (const auto& [pt, j] : hits)
+          if (linf(centred, xyz[static_cast<std::size_t>(j)]) < r0) {
+            taken = true;
+            break;
+          }
+        if (taken) continue;
+      }
       const Frame fc = field.frame(uc);
       if (!fc.ok || !(fc.h > 0)) continue;
       const double r = k * fc.h;
@@ -144,7 +168,7 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
       }
       for (std::size_t q = 0; free && q < singular.size(); ++q)
         if (linf(fc, singular[q]) < r) free = false;
-      if (!free || near_boundary(fc.p, query, 0.5 * fc.h)) continue;
+      if (!free || near_boundary(fc.p, query, 0.5 * fc.h) || !cad.contains(f, uc)) continue;
       const int id = static_cast<int>(uv.size());
       uv.push_back(uc);
       xyz.push_back(fc.p);
