@@ -1,0 +1,187 @@
+// CadModel: reading STEP/IGES/BREP, units, sewing, ids, and the geometric queries, against
+// analytic values of the parts (box, cylinder, cone, sphere) and hand-checked figures.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+
+#include "cad_test_util.hpp"
+#include "mesher/cad/cad_model.hpp"
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+namespace {
+
+using cadtest::data;
+using cadtest::work;
+
+double extent(const BBox3& b, int k) {
+  return b.max[k] - b.min[k];
+}
+
+TEST(CadModel, UnitBoxTopologyAndMeasures) {
+  const CadModel cad = CadModel::read(data("box.stp"));
+  EXPECT_EQ(cad.format(), "STEP");
+  EXPECT_DOUBLE_EQ(cad.unit_scale(), 1.0);
+  EXPECT_EQ(cad.num_solids(), 1);
+  EXPECT_EQ(cad.num_faces(), 6);
+  EXPECT_EQ(cad.num_edges(), 12);
+  EXPECT_EQ(cad.num_vertices(), 8);
+  EXPECT_NEAR(cad.volume(), 1.0, 1e-12);
+  EXPECT_NEAR(cad.area(), 6.0, 1e-12);
+  EXPECT_EQ(cad.faces_of_solid(1).size(), 6u);
+  for (int f = 1; f <= 6; ++f) {
+    EXPECT_EQ(cad.surface_type(f), SurfaceType::Plane);
+    EXPECT_NEAR(cad.face_area(f), 1.0, 1e-12);
+    // The centroid of each face is the middle of a side: one coordinate 0 or 1, others 0.5.
+    const Vec3 c = cad.face_centroid(f);
+    int halves = 0;
+    for (double x : c) halves += std::abs(x - 0.5) < 1e-9;
+    EXPECT_EQ(halves, 2);
+    EXPECT_EQ(cad.solids_of_face(f), std::vector<int>{1});
+  }
+  for (int e = 1; e <= 12; ++e) {
+    EXPECT_NEAR(cad.edge_length(e), 1.0, 1e-12);
+    EXPECT_EQ(cad.faces_of_edge(e).size(), 2u);
+    EXPECT_FALSE(cad.edge_degenerate(e));
+  }
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(extent(cad.bbox(), k), 1.0, 1e-6);
+}
+
+TEST(CadModel, IdsAreStableAcrossReads) {
+  const CadModel a = CadModel::read(data("ANC101.stp"));
+  const CadModel b = CadModel::read(data("ANC101.stp"));
+  ASSERT_EQ(a.num_faces(), b.num_faces());
+  ASSERT_EQ(a.num_faces(), 87);  // ADVANCED_FACE entities in the file
+  for (int f = 1; f <= a.num_faces(); ++f) {
+    EXPECT_EQ(a.surface_type(f), b.surface_type(f));
+    EXPECT_EQ(a.face_centroid(f), b.face_centroid(f));
+  }
+  for (int v = 1; v <= a.num_vertices(); ++v) EXPECT_EQ(a.vertex_point(v), b.vertex_point(v));
+}
+
+TEST(CadModel, FaceQueriesOnThePlaneAndCylinder) {
+  const CadModel cad = CadModel::read(data("cylinder.stp"));
+  ASSERT_EQ(cad.num_faces(), 3);
+  // The radius and length from the bounding box (axis along y): the volume is pi r^2 L.
+  const BBox3 b = cad.bbox();
+  const double r = 0.5 * extent(b, 0), length = extent(b, 1);
+  EXPECT_NEAR(extent(b, 2), 2 * r, 1e-6 * r);  // the box is exact to the tolerance
+  EXPECT_NEAR(cad.volume(), std::numbers::pi * r * r * length, 1e-6 * cad.volume());
+  int cylinders = 0;
+  for (int f = 1; f <= 3; ++f) {
+    const auto bd = cad.uv_bounds(f);
+    const Vec2 mid{0.5 * (bd[0] + bd[1]), 0.5 * (bd[2] + bd[3])};
+    // eval/point/project agree, the middle of the domain is inside, far outside is not.
+    const SurfaceDerivs d = cad.eval(f, mid);
+    EXPECT_EQ(d.p, cad.point(f, mid));
+    if (cad.surface_type(f) == SurfaceType::Cylinder) {
+      ++cylinders;
+      EXPECT_NEAR(cad.periods(f)[0], 2 * std::numbers::pi, 1e-12);
+      EXPECT_NEAR(cad.max_curvature(f, mid), 1 / r, 1e-6 / r);
+      EXPECT_TRUE(cad.contains(f, mid));
+      // Past the seam is outside (no periodic wrapping).
+      EXPECT_FALSE(cad.contains(f, {bd[1] + 0.5, mid[1]}));
+    } else {
+      EXPECT_EQ(cad.surface_type(f), SurfaceType::Plane);
+      EXPECT_TRUE(cad.contains(f, cad.project(f, cad.face_centroid(f))));
+      EXPECT_FALSE(cad.contains(f, {mid[0] + 10 * r, mid[1]}));
+      EXPECT_NEAR(cad.face_area(f), std::numbers::pi * r * r, 1e-5 * r * r);
+    }
+    const Vec2 uv = cad.project(f, d.p);
+    const Vec3 back = cad.point(f, uv);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(back[k], d.p[k], 1e-9);
+    // The outward normal points away from the axis / out of the end caps.
+    const Vec3 n = cad.normal(f, mid);
+    const Vec3 c{0.5 * (b.min[0] + b.max[0]), 0.5 * (b.min[1] + b.max[1]),
+                 0.5 * (b.min[2] + b.max[2])};
+    double dot = 0;
+    for (int k = 0; k < 3; ++k)
+      dot += n[static_cast<std::size_t>(k)] *
+             (d.p[static_cast<std::size_t>(k)] - c[static_cast<std::size_t>(k)]);
+    EXPECT_GT(dot, 0) << "face " << f;
+  }
+  EXPECT_EQ(cylinders, 1);
+  // The seam of the lateral face appears twice in its boundary, once each way.
+  for (int f = 1; f <= 3; ++f) {
+    if (cad.surface_type(f) != SurfaceType::Cylinder) continue;
+    int seams = 0;
+    for (const auto& ce : cad.coedges(f)) seams += ce.seam;
+    EXPECT_EQ(seams, 2);
+  }
+}
+
+TEST(CadModel, ConeApexIsADegenerateEdge) {
+  const CadModel cad = CadModel::read(data("Cone_1.brep"));
+  EXPECT_EQ(cad.format(), "BREP");
+  EXPECT_NE(cad.file_unit().find("assumed"), std::string::npos);
+  // R = 100, H = 300: V = pi R^2 H / 3.
+  EXPECT_NEAR(cad.volume(), std::numbers::pi * 100 * 100 * 300 / 3, 1e-6 * cad.volume());
+  int degenerate = 0;
+  for (int e = 1; e <= cad.num_edges(); ++e) degenerate += cad.edge_degenerate(e);
+  EXPECT_EQ(degenerate, 1);
+}
+
+TEST(CadModel, UnitsAreConvertedToMillimetres) {
+  // The AS1 assembly is written in inches; its base plate is 8 x 6 in (gmsh reads it as
+  // 200 x 150 mm with the plate at the origin). 18 bodies from 5 parts, each its own solid.
+  const CadModel cad = CadModel::read(data("as1-oc-214.stp"));
+  EXPECT_EQ(cad.file_unit(), "inch");
+  EXPECT_DOUBLE_EQ(cad.unit_scale(), 25.4);
+  EXPECT_EQ(cad.num_solids(), 18);
+  EXPECT_NEAR(extent(cad.bbox(), 0), 200, 0.5);
+  EXPECT_NEAR(extent(cad.bbox(), 1), 150, 0.5);
+  double sum = 0;
+  for (int s = 1; s <= cad.num_solids(); ++s) {
+    EXPECT_GT(cad.solid_volume(s), 0);
+    sum += cad.solid_volume(s);
+  }
+  EXPECT_NEAR(sum, cad.volume(), 1e-9 * sum);
+}
+
+TEST(CadModel, IgesSolidAndSewnSurface) {
+  const CadModel cube = CadModel::read(data("cube_10x10.igs"));
+  EXPECT_EQ(cube.format(), "IGES");
+  EXPECT_EQ(cube.num_solids(), 1);
+  EXPECT_NEAR(cube.volume(), 1000, 1e-6);
+  // One closed B-spline surface with no solid entity: sewn into a solid of radius 1 (the
+  // B-spline approximates the sphere; 2 % on the volume).
+  const CadModel sphere = CadModel::read(data("sphere_Rhino3D_default.igs"));
+  EXPECT_EQ(sphere.num_solids(), 1);
+  EXPECT_NEAR(sphere.volume(), 4.0 / 3.0 * std::numbers::pi, 0.02 * 4.0 / 3.0 * std::numbers::pi);
+  ASSERT_FALSE(sphere.warnings().empty());
+  EXPECT_NE(sphere.warnings()[0].find("sewed"), std::string::npos);
+}
+
+void expect_error(const std::string& path, const std::string& needle) {
+  try {
+    CadModel::read(path);
+    ADD_FAILURE() << path << " was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+  }
+}
+
+TEST(CadModel, BadInputGivesOneLineErrors) {
+  expect_error(data("no_such_file.step"), "no such file");
+  expect_error(data("open_box.igs"), "IGES surfaces do not close into a solid");
+  { std::ofstream(work("empty.step")); }
+  expect_error(work("empty.step").string(), "is empty");
+  { std::ofstream(work("text.step")) << "this is not a CAD file\n"; }
+  expect_error(work("text.step").string(), "not a STEP file");
+  {
+    // The first half of a valid STEP file.
+    std::ifstream in(data("box.stp"), std::ios::binary);
+    std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(work("truncated.step"), std::ios::binary) << all.substr(0, all.size() / 2);
+  }
+  expect_error(work("truncated.step").string(), "truncated");
+  { std::ofstream(work("garbage.brep")) << "not a brep\n"; }
+  expect_error(work("garbage.brep").string(), "not a readable OCCT BREP");
+  expect_error(data("SOURCES.md"), "unknown CAD format");
+}
+
+}  // namespace
+}  // namespace hexfem

@@ -1,0 +1,106 @@
+// `hexfem info` and `hexfem mesh --dim 2`: outputs, JSON reports and one-line errors with a
+// non-zero exit code on bad input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cad_test_util.hpp"
+#include "mesher/mesh/mesh_io.hpp"
+
+namespace hexfem {
+namespace {
+
+using cadtest::data;
+using cadtest::run_cli;
+using cadtest::work;
+
+nlohmann::json json_of(const std::string& out) {
+  const auto a = out.find('{');
+  const auto b = out.rfind('}');
+  return nlohmann::json::parse(out.substr(a, b - a + 1));
+}
+
+void expect_error(const std::string& args, const std::string& needle) {
+  std::string out;
+  EXPECT_NE(run_cli(args, &out), 0) << args;
+  EXPECT_EQ(out.rfind("hexfem: error: ", 0), 0u) << out;
+  EXPECT_NE(out.find(needle), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+}
+
+TEST(CliSurface, InfoListsSolidsAndFaces) {
+  std::string out;
+  ASSERT_EQ(run_cli("info " + data("box.stp") + " --json", &out), 0) << out;
+  const auto j = json_of(out);
+  EXPECT_EQ(j["solids"].size(), 1u);
+  EXPECT_EQ(j["faces"].size(), 6u);
+  EXPECT_NEAR(j["volume"].get<double>(), 1.0, 1e-12);
+  EXPECT_EQ(j["faces"][0]["type"], "plane");
+  EXPECT_NEAR(j["faces"][0]["area"].get<double>(), 1.0, 1e-12);
+  ASSERT_EQ(run_cli("info " + data("as1-oc-214.stp"), &out), 0) << out;
+  EXPECT_NE(out.find("file unit inch"), std::string::npos) << out;
+  EXPECT_NE(out.find("18 solid(s)"), std::string::npos) << out;
+}
+
+TEST(CliSurface, MeshWritesMshAndVtu) {
+  std::string out;
+  const auto msh = work("box_surface.msh");
+  ASSERT_EQ(
+      run_cli("mesh " + data("box.stp") + " --h 0.1 --dim 2 -o " + msh.string() + " --json", &out),
+      0)
+      << out;
+  const auto j = json_of(out);
+  EXPECT_EQ(j["points"].get<std::size_t>(), 602u);  // 6 faces of 10 x 10 squares: 6*81 + 12*9 + 8
+  EXPECT_EQ(j["triangles"].get<std::size_t>(), 1200u);
+  EXPECT_NEAR(j["right_isosceles_share"].get<double>(), 1.0, 1e-12);
+  EXPECT_NEAR(j["mesh_volume"].get<double>(), 1.0, 1e-9);
+  for (const char* stage :
+       {"read CAD", "size field", "edge points", "cross field", "packing", "triangulation"})
+    EXPECT_TRUE(j["stage_seconds"].contains(stage)) << stage;
+  const MixedMesh m = read_msh(msh);
+  EXPECT_EQ(m.nodes.size(), 602u);
+  EXPECT_EQ(m.num_bfaces(), 1200u);
+  ASSERT_EQ(
+      run_cli("mesh " + data("cylinder.stp") + " --h 2 --dim 2 -o " + work("cyl.vtu").string(),
+              &out),
+      0)
+      << out;
+  EXPECT_NE(out.find("right-isosceles-like triangles"), std::string::npos) << out;
+  EXPECT_NE(out.find("time:"), std::string::npos) << out;
+  EXPECT_TRUE(std::filesystem::exists(work("cyl.vtu")));
+}
+
+TEST(CliSurface, BadInputFailsWithOneLine) {
+  {
+    std::ofstream(work("cli_empty.step"));
+    std::ofstream(work("cli_text.step")) << "just some text\n";
+    std::ifstream in(data("box.stp"), std::ios::binary);
+    std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(work("cli_truncated.step"), std::ios::binary) << all.substr(0, all.size() / 2);
+  }
+  const std::string box = data("box.stp");
+  expect_error("mesh " + data("missing.step") + " --h 1 --dim 2", "no such file");
+  expect_error("mesh " + work("cli_empty.step").string() + " --h 1 --dim 2", "is empty");
+  expect_error("mesh " + work("cli_text.step").string() + " --h 1 --dim 2", "not a STEP file");
+  expect_error("mesh " + work("cli_truncated.step").string() + " --h 1 --dim 2", "truncated");
+  expect_error("mesh " + box + " --h 0 --dim 2", "--h must be > 0");
+  expect_error("mesh " + box + " --h -1 --dim 2", "--h must be > 0");
+  expect_error("mesh " + box + " --h 0.0001 --dim 2", "--force");
+  expect_error("mesh " + box + " --h 0.1 --dim 2 --size-at vertex:1", "expected vertex:ID=h");
+  expect_error("mesh " + box + " --h 0.1 --dim 2 --size-at vertex:77=0.1", "no vertex 77");
+  expect_error("mesh " + box + " --h 0.1 --dim 2 -o out.xyz", ".msh, .vtu or .inp");
+  expect_error("mesh " + data("open_box.igs") + " --h 1 --dim 2",
+               "IGES surfaces do not close into a solid");
+  expect_error("info " + work("cli_text.step").string(), "not a STEP file");
+  // Nothing half-written on failure.
+  EXPECT_FALSE(std::filesystem::exists(work("never.msh")));
+  expect_error("mesh " + work("cli_truncated.step").string() + " --h 1 --dim 2 -o " +
+                   work("never.msh").string(),
+               "truncated");
+  EXPECT_FALSE(std::filesystem::exists(work("never.msh")));
+}
+
+}  // namespace
+}  // namespace hexfem

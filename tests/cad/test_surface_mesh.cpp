@@ -1,0 +1,218 @@
+// The surface mesher on real parts: closed, outward, no self-intersection (CGAL PMP), no
+// angle below 5 degrees, right-isosceles share, point count against area/h^2, enclosed volume
+// against the CAD volume, frames, sizes and the size options.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "cad_test_util.hpp"
+#include "mesher/cad/cad_model.hpp"
+#include "mesher/cross_field.hpp"
+#include "mesher/edge_points.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/size_field.hpp"
+#include "mesher/surface_check.hpp"
+#include "mesher/surface_pipeline.hpp"
+
+namespace hexfem {
+namespace {
+
+using cadtest::data;
+
+double dot(const Vec3& a, const Vec3& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// Every solid closed, consistently outward, free of self-intersections; no angle below 5°.
+void expect_valid(const SurfaceMesh& s, const CadModel& cad, const std::string& what) {
+  const auto checks = check_solids(s);
+  ASSERT_EQ(checks.size(), static_cast<std::size_t>(cad.num_solids())) << what;
+  for (const auto& c : checks) {
+    EXPECT_EQ(c.open_edges, 0u) << what << " solid " << c.solid;
+    EXPECT_EQ(c.nonmanifold_edges, 0u) << what << " solid " << c.solid;
+    EXPECT_EQ(c.misoriented_edges, 0u) << what << " solid " << c.solid;
+    EXPECT_TRUE(c.self_intersection_tested) << what;
+    EXPECT_FALSE(c.self_intersects) << what << " solid " << c.solid;
+    EXPECT_GT(c.volume, 0) << what << " solid " << c.solid;
+  }
+  const TriangleQuality q = triangle_quality(s.mesh);
+  EXPECT_EQ(q.below_5, 0u) << what << ": smallest angle " << q.min_angle;
+  // Frames: orthonormal, n = d1 x d2; sizes positive.
+  ASSERT_EQ(s.frame.size(), s.mesh.nodes.size());
+  for (std::size_t i = 0; i < s.frame.size(); ++i) {
+    const auto& [d1, d2, n] = s.frame[i];
+    ASSERT_NEAR(dot(d1, d1), 1, 1e-9) << what;
+    ASSERT_NEAR(dot(d2, d2), 1, 1e-9) << what;
+    ASSERT_NEAR(dot(d1, d2), 0, 1e-9) << what;
+    const Vec3 c{d1[1] * d2[2] - d1[2] * d2[1], d1[2] * d2[0] - d1[0] * d2[2],
+                 d1[0] * d2[1] - d1[1] * d2[0]};
+    ASSERT_NEAR(dot(c, n), 1, 1e-9) << what;
+    ASSERT_GT(s.size[i], 0) << what;
+  }
+}
+
+double solid_volume_sum(const SurfaceMesh& s) {
+  double v = 0;
+  for (const auto& c : check_solids(s, false)) v += c.volume;
+  return v;
+}
+
+TEST(SurfaceMesh, BoxIsExactAndAligned) {
+  const CadModel cad = CadModel::read(data("box.stp"));
+  SurfaceOptions opt;
+  opt.h = 0.05;
+  SurfaceReport rep;
+  const SurfaceMesh s = mesh_surface(cad, opt, &rep);
+  expect_valid(s, cad, "box");
+  // Planar faces: the enclosed volume is the CAD volume to round-off.
+  EXPECT_NEAR(solid_volume_sum(s), cad.volume(), 1e-9 * cad.volume());
+  EXPECT_GE(rep.quality.right_isosceles_share, 0.99);
+  EXPECT_NEAR(static_cast<double>(rep.points), cad.area() / (opt.h * opt.h),
+              0.25 * cad.area() / (opt.h * opt.h));
+  // The frame of every node is aligned with the box's edges; n points out of the box.
+  for (std::size_t i = 0; i < s.frame.size(); ++i) {
+    const auto& [d1, d2, n] = s.frame[i];
+    const double m = std::max({std::abs(d1[0]), std::abs(d1[1]), std::abs(d1[2])});
+    EXPECT_NEAR(m, 1, 1e-6);
+    const Vec3& x = s.mesh.nodes[i];
+    EXPECT_GT(dot(n, {x[0] - 0.5, x[1] - 0.5, x[2] - 0.5}), 0);
+  }
+  EXPECT_EQ(s.faces_of_solid.size(), 2u);
+  EXPECT_EQ(s.faces_of_solid[1].size(), 6u);
+  // Nodes on edges come first and are flagged; every triangle is tagged by its face.
+  EXPECT_TRUE(s.on_edge[0]);
+  EXPECT_FALSE(s.on_edge.back());
+  for (std::size_t f = 0; f < s.mesh.num_bfaces(); ++f) {
+    EXPECT_GE(s.mesh.bface_cad_face[f], 1);
+    EXPECT_LE(s.mesh.bface_cad_face[f], 6);
+    EXPECT_FALSE(s.mesh.bface_is_quad(f));
+  }
+}
+
+TEST(SurfaceMesh, CylinderVolumeConvergesWithH) {
+  const CadModel cad = CadModel::read(data("cylinder.stp"));
+  double previous = 1e300;
+  for (double h : {2.0, 1.0, 0.5}) {
+    SurfaceOptions opt;
+    opt.h = h;
+    SurfaceReport rep;
+    const SurfaceMesh s = mesh_surface(cad, opt, &rep);
+    expect_valid(s, cad, "cylinder h=" + std::to_string(h));
+    const double err = std::abs(solid_volume_sum(s) - cad.volume()) / cad.volume();
+    EXPECT_LT(err, 0.7 * previous) << "h = " << h;
+    previous = err;
+  }
+}
+
+TEST(SurfaceMesh, TenThousandPointsOnBoxCylinderAnc101) {
+  for (const char* name : {"box.stp", "cylinder.stp", "ANC101.stp"}) {
+    const CadModel cad = CadModel::read(data(name));
+    SurfaceOptions opt;
+    opt.h = std::sqrt(cad.area() / 10000);
+    SurfaceReport rep;
+    const SurfaceMesh s = mesh_surface(cad, opt, &rep);
+    expect_valid(s, cad, name);
+    EXPECT_GE(rep.quality.right_isosceles_share, 0.70) << name;
+    EXPECT_NEAR(static_cast<double>(rep.points), 10000, 2500) << name;
+  }
+}
+
+TEST(SurfaceMesh, SingularPointsAndSeveralSolids) {
+  for (const char* name :
+       {"sphere.stp", "Cone_1.brep", "sphere_Rhino3D_default.igs", "cube_10x10.igs"}) {
+    const CadModel cad = CadModel::read(data(name));
+    SurfaceOptions opt;
+    const BBox3 b = cad.bbox();
+    opt.h = (b.max[0] - b.min[0]) / 25;
+    expect_valid(mesh_surface(cad, opt), cad, name);
+  }
+  const CadModel as1 = CadModel::read(data("as1-oc-214.stp"));
+  SurfaceOptions opt;
+  opt.h = 8;
+  const SurfaceMesh s = mesh_surface(as1, opt);
+  expect_valid(s, as1, "as1");
+  EXPECT_EQ(s.faces_of_solid.size(), 19u);
+}
+
+TEST(SurfaceMesh, CrossFieldFollowsTheBoundary) {
+  // On the disk cap of the cylinder, near the rim one direction of the cross is the tangent
+  // of the circle (the Dirichlet data); at the centre the field is smooth (no NaN).
+  const CadModel cad = CadModel::read(data("cylinder.stp"));
+  const SizeField size(cad, {});
+  const EdgePoints edges = discretise_edges(cad, size);
+  for (int f = 1; f <= cad.num_faces(); ++f) {
+    if (cad.surface_type(f) != SurfaceType::Plane) continue;
+    const FaceBoundary b = face_boundary(cad, f, edges);
+    const FaceField field(cad, f, b, edges, size);
+    const Vec3 c = cad.face_centroid(f);
+    for (std::size_t i = 0; i < b.uv.size(); i += 5) {
+      // A point 2 % of the way from the boundary point to the centre.
+      const Vec2 cuv = cad.project(f, c);
+      const Vec2 uv{b.uv[i][0] + 0.02 * (cuv[0] - b.uv[i][0]),
+                    b.uv[i][1] + 0.02 * (cuv[1] - b.uv[i][1])};
+      const Frame fr = field.frame(uv);
+      ASSERT_TRUE(fr.ok);
+      const Vec3 x = cad.point(f, uv);
+      Vec3 radial{x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+      const double l = std::sqrt(dot(radial, radial));
+      for (double& r : radial) r /= l;
+      const double align = std::max(std::abs(dot(fr.d1, radial)), std::abs(dot(fr.d2, radial)));
+      EXPECT_GT(align, std::cos(5 * std::numbers::pi / 180));
+    }
+    EXPECT_TRUE(field.frame(cad.project(f, c)).ok);
+  }
+}
+
+TEST(SurfaceMesh, SizeOptions) {
+  const CadModel cad = CadModel::read(data("cylinder.stp"));
+  // Curvature bound: 24 elements per turn on the circles even with a size larger than them.
+  SizeOptions so;
+  so.h = 20;
+  so.curvature = 24;
+  const EdgePoints edges = discretise_edges(cad, SizeField(cad, so));
+  for (int e = 1; e <= cad.num_edges(); ++e) {
+    if (cad.edge_closed(e)) {
+      EXPECT_GE(edges.t[static_cast<std::size_t>(e - 1)].size() - 1, 24u);
+    }
+  }
+
+  // A size at a vertex: the box's edges leaving vertex 1 start with segments near that size.
+  const CadModel box = CadModel::read(data("box.stp"));
+  SurfaceOptions opt;
+  opt.h = 0.2;
+  SurfaceReport plain, local;
+  mesh_surface(box, opt, &plain);
+  opt.vertex_sizes = {{1, 0.02}};
+  const SurfaceMesh s = mesh_surface(box, opt, &local);
+  expect_valid(s, box, "box with a vertex size");
+  EXPECT_GT(local.points, plain.points);
+  const Vec3 v1 = box.vertex_point(1);
+  double nearest = 1e300;
+  for (std::size_t i = 0; i < s.mesh.nodes.size(); ++i) {
+    const Vec3& x = s.mesh.nodes[i];
+    const double d = std::sqrt(dot({x[0] - v1[0], x[1] - v1[1], x[2] - v1[2]},
+                                   {x[0] - v1[0], x[1] - v1[1], x[2] - v1[2]}));
+    if (d > 0) nearest = std::min(nearest, d);
+  }
+  EXPECT_LT(nearest, 0.04);
+  EXPECT_GT(nearest, 0.01);
+
+  // Bad sizes and budgets are refused with one-line errors.
+  opt.vertex_sizes = {{99, 0.1}};
+  EXPECT_THROW(mesh_surface(box, opt), Error);
+  opt.vertex_sizes.clear();
+  opt.h = 0;
+  EXPECT_THROW(mesh_surface(box, opt), Error);
+  opt.h = 1e-4;  // about 6e8 points
+  try {
+    mesh_surface(box, opt);
+    ADD_FAILURE() << "no budget error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace hexfem
