@@ -7,6 +7,7 @@
 #include <exception>
 #include <map>
 #include <optional>
+#include <set>
 
 #include "mesher/cross_field.hpp"
 #include "mesher/edge_points.hpp"
@@ -59,6 +60,74 @@ double face_estimate(const CadModel& cad, const SizeField& size, int f) {
   return cad.face_area(f) / (h * h);
 }
 
+std::size_t nedge_of(const EdgePoints& e) {
+  return e.xyz.size();
+}
+
+// Faces (index into the face list, sorted) whose triangles join two edge nodes by an edge that
+// is not one of the face's boundary segments while another face uses the same node pair too;
+// with the parametric midpoint of that diagonal in the face.
+std::vector<std::pair<std::size_t, Vec2>> shared_diagonals(
+    const std::vector<FaceBoundary>& boundary, const std::vector<FaceTriangles>& tris,
+    std::size_t nedge) {
+  struct Use {
+    std::size_t face;
+    Vec2 mid;
+    bool diagonal;
+  };
+  std::map<std::pair<int, int>, std::vector<Use>> uses;
+  for (std::size_t k = 0; k < boundary.size(); ++k) {
+    const auto& b = boundary[k];
+    const int nb = static_cast<int>(b.uv.size());
+    std::set<std::pair<int, int>> segs;
+    for (const auto& sg : b.segments) {
+      const int a = b.node[static_cast<std::size_t>(sg[0])],
+                c = b.node[static_cast<std::size_t>(sg[1])];
+      segs.insert({std::min(a, c), std::max(a, c)});
+    }
+    std::set<std::pair<int, int>> seen;
+    for (const auto& t : tris[k].triangles) {
+      for (int e = 0; e < 3; ++e) {
+        const int i = t[static_cast<std::size_t>(e)], j = t[static_cast<std::size_t>((e + 1) % 3)];
+        if (i >= nb || j >= nb) continue;
+        const int a = b.node[static_cast<std::size_t>(i)], c = b.node[static_cast<std::size_t>(j)];
+        if (static_cast<std::size_t>(std::max(a, c)) >= nedge) continue;
+        const std::pair<int, int> key{std::min(a, c), std::max(a, c)};
+        if (!seen.insert(key).second) continue;
+        const Vec2& p = b.uv[static_cast<std::size_t>(i)];
+        const Vec2& q = b.uv[static_cast<std::size_t>(j)];
+        uses[key].push_back({k, {0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])}, segs.count(key) == 0});
+      }
+    }
+  }
+  std::vector<std::pair<std::size_t, Vec2>> out;
+  for (const auto& [key, list] : uses) {
+    if (list.size() < 2) continue;
+    for (const Use& u : list)
+      if (u.diagonal) out.emplace_back(u.face, u.mid);
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return out;
+}
+
+// A solid whose boundary uses an edge more than twice (two lumps touching along an edge)
+// has no 2-manifold surface mesh: refused with the edge and its faces named.
+void require_manifold_solids(const CadModel& cad) {
+  for (int s = 1; s <= cad.num_solids(); ++s) {
+    std::map<int, std::vector<int>> uses;
+    for (int f : cad.faces_of_solid(s))
+      for (const auto& ce : cad.coedges(f))
+        if (!cad.edge_degenerate(ce.edge)) uses[ce.edge].push_back(f);
+    for (const auto& [e, fs] : uses) {
+      if (fs.size() <= 2) continue;
+      std::string list;
+      for (int f : fs) list += (list.empty() ? "" : ", ") + std::to_string(f);
+      throw Error("solid " + std::to_string(s) + " is not manifold: edge " + std::to_string(e) +
+                  " bounds " + std::to_string(fs.size()) + " face sides (faces " + list + ")");
+    }
+  }
+}
+
 }  // namespace
 
 double estimate_surface_points(const CadModel& cad, const SurfaceOptions& options) {
@@ -76,6 +145,7 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
   rep = SurfaceReport{};
   if (!(options.k > 0 && options.k < 1)) throw Error("the packing factor k must be in (0, 1)");
 
+  require_manifold_solids(cad);
   auto t0 = Clock::now();
   const SizeField size(cad, size_options(options));
   rep.estimated_points = estimate_surface_points(cad, options);
@@ -101,6 +171,34 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
     boundary[static_cast<std::size_t>(i)] =
         face_boundary(cad, faces[static_cast<std::size_t>(i)], edges);
   rep.edge_points = edges.xyz.size();
+  // Second estimate, from the sizes the edges actually got (curvature, narrow faces, vertex
+  // sizes): area over the mean boundary size squared per face. The packing budget of a face
+  // is a few times what its finest boundary size would give.
+  std::vector<double> budget(static_cast<std::size_t>(nf));
+  double refined = 0;
+  for (int i = 0; i < nf; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    double hmin = size.global(), hsum = 0;
+    for (int n : boundary[k].node) {
+      const double h = edges.size[static_cast<std::size_t>(n)];
+      hmin = std::min(hmin, h);
+      hsum += h;
+    }
+    const double hmean = boundary[k].node.empty()
+                             ? size.global()
+                             : hsum / static_cast<double>(boundary[k].node.size());
+    const double area = cad.face_area(faces[k]);
+    refined += area / (hmean * hmean);
+    budget[k] = std::min(4 * area / (hmin * hmin) + 1e4, 2.5e8);
+  }
+  if (refined > options.max_points && !options.force) {
+    char msg[240];
+    std::snprintf(msg, sizeof msg,
+                  "h = %g with the curvature and feature sizes gives about %.3g surface points "
+                  "(more than %.3g); use a larger h or --force",
+                  options.h, refined, options.max_points);
+    throw Error(msg);
+  }
   rep.stage_seconds.emplace_back("edge points", seconds_since(t0));
 
   t0 = Clock::now();
@@ -120,8 +218,7 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
     const auto k = static_cast<std::size_t>(i);
     PackingOptions po;
     po.k = options.k;
-    const double est = face_estimate(cad, size, faces[k]);
-    po.budget = static_cast<std::size_t>(std::min(4 * std::max(est, 1000.0) + 1e4, 2.5e8));
+    po.budget = static_cast<std::size_t>(budget[k]);
     pts[k] = pack_face(cad, *field[k], boundary[k], edges, po);
   });
   for (const auto& p : pts) rep.candidates += p.candidates;
@@ -134,6 +231,25 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
     const auto k = static_cast<std::size_t>(i);
     tris[k] = triangulate_face(faces[k], boundary[k], pts[k], edges, field[k]->scale());
   });
+  // A face with no interior point near two of its edges may join them by a diagonal that a
+  // neighbouring face sharing both edges draws too (two half cylinders of a small hole): the
+  // edge would be used four times. Such faces get a point in the middle of the diagonal.
+  for (int round = 0; round < 4; ++round) {
+    const auto split = shared_diagonals(boundary, tris, nedge_of(edges));
+    if (split.empty()) break;
+    std::vector<int> redo;
+    for (const auto& [k, uv] : split) {
+      if (!cad.contains(faces[k], uv)) continue;
+      pts[k].uv.push_back(uv);
+      pts[k].xyz.push_back(cad.point(faces[k], uv));
+      if (redo.empty() || redo.back() != static_cast<int>(k)) redo.push_back(static_cast<int>(k));
+    }
+    if (redo.empty()) break;
+    for (int k : redo)
+      tris[static_cast<std::size_t>(k)] = triangulate_face(
+          faces[static_cast<std::size_t>(k)], boundary[static_cast<std::size_t>(k)],
+          pts[static_cast<std::size_t>(k)], edges, field[static_cast<std::size_t>(k)]->scale());
+  }
   rep.stage_seconds.emplace_back("triangulation", seconds_since(t0));
 
   // Assembly: edge nodes first, then each face's used interior points in face order.

@@ -128,7 +128,11 @@ Vec3 CadModel::face_centroid(int f) const {
   return at(impl_->faces, f, "face").centroid;
 }
 BBox3 CadModel::face_bbox(int f) const {
-  return at(impl_->faces, f, "face").bbox;
+  const auto& d = at(impl_->faces, f, "face");
+  std::lock_guard lock(impl_->bbox_mutex);
+  auto& b = impl_->face_bbox[static_cast<std::size_t>(f - 1)];
+  if (!b) b = shape_bbox(d.face);
+  return *b;
 }
 const std::vector<int>& CadModel::solids_of_face(int f) const {
   return at(impl_->faces, f, "face").solids;

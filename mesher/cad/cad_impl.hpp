@@ -13,6 +13,7 @@
 #include <gp_Pnt.hxx>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include "mesher/cad/cad_model.hpp"
 
@@ -51,7 +52,6 @@ struct FaceData {
   std::vector<CoEdgeData> coedge_data;
   double area = 0;
   Vec3 centroid{0, 0, 0};
-  BBox3 bbox;
   std::vector<int> solids;
   // The trimmed-domain classifier is built on first use (it costs a polygonisation of the
   // boundary); the once_flag makes that safe when faces are meshed in parallel.
@@ -63,7 +63,6 @@ struct SolidData {
   TopoDS_Solid solid;
   std::vector<int> faces;
   double volume = 0;
-  BBox3 bbox;
 };
 
 struct CadModel::Impl {
@@ -78,8 +77,12 @@ struct CadModel::Impl {
   std::vector<EdgeData> edges;
   std::vector<FaceData> faces;
   std::vector<SolidData> solids;
-  BBox3 bbox;
   double volume = 0, area = 0;
+  // Bounding boxes are exact (BRepBndLib::AddOptimal), which costs seconds on parts with many
+  // tori and B-splines: computed on first use (only `hexfem info` and studies ask).
+  mutable std::mutex bbox_mutex;
+  mutable std::vector<std::optional<BBox3>> face_bbox, solid_bbox;
+  mutable std::optional<BBox3> part_bbox;
 
   // Fills every table from `part` (a compound of correctly oriented solids).
   void build_tables();

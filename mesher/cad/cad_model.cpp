@@ -289,7 +289,6 @@ void CadModel::Impl::build_tables() {
       }
     }
     sd.volume = signed_volume(sd.solid);
-    sd.bbox = shape_bbox(sd.solid);
     volume += sd.volume;
   }
 
@@ -344,10 +343,10 @@ void CadModel::Impl::build_tables() {
     BRepGProp::SurfaceProperties(fd.face, props);
     fd.area = props.Mass();
     fd.centroid = to_vec(props.CentreOfMass());
-    fd.bbox = shape_bbox(fd.face);
     if (!fd.solids.empty()) area += fd.area;
   }
-  bbox = shape_bbox(part);
+  face_bbox.resize(faces.size());
+  solid_bbox.resize(solids.size());
 }
 
 CadModel CadModel::read(const std::filesystem::path& path) {
@@ -450,13 +449,19 @@ double CadModel::solid_volume(int s) const {
   return impl_->solids.at(s - 1).volume;
 }
 BBox3 CadModel::solid_bbox(int s) const {
-  return impl_->solids.at(s - 1).bbox;
+  const auto& d = impl_->solids.at(static_cast<std::size_t>(s - 1));
+  std::lock_guard lock(impl_->bbox_mutex);
+  auto& b = impl_->solid_bbox[static_cast<std::size_t>(s - 1)];
+  if (!b) b = shape_bbox(d.solid);
+  return *b;
 }
 double CadModel::volume() const {
   return impl_->volume;
 }
 BBox3 CadModel::bbox() const {
-  return impl_->bbox;
+  std::lock_guard lock(impl_->bbox_mutex);
+  if (!impl_->part_bbox) impl_->part_bbox = shape_bbox(impl_->part);
+  return *impl_->part_bbox;
 }
 double CadModel::area() const {
   return impl_->area;
