@@ -154,6 +154,8 @@ FaceField::FaceField(const CadModel& cad, int f, const FaceBoundary& b, const Ed
     auto va = handles[static_cast<std::size_t>(s[0])], vb = handles[static_cast<std::size_t>(s[1])];
     if (va != vb) cdt.insert_constraint(va, vb);
   }
+  if (cdt.dimension() < 2)
+    throw Error("face " + std::to_string(f) + ": its boundary is flat in the parameter plane");
   mark_nesting_levels(cdt);
   for (auto fh = cdt.all_faces_begin(); fh != cdt.all_faces_end(); ++fh)
     fh->set_in_domain(!cdt.is_infinite(fh) && fh->info() % 2 == 1);

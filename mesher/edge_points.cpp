@@ -98,12 +98,38 @@ void build_points(const CadModel& cad, const SizeField& size, const Caps& caps,
   }
   p.t.assign(static_cast<std::size_t>(cad.num_edges()), {});
   p.node.assign(static_cast<std::size_t>(cad.num_edges()), {});
+  // Micro edges (shorter than a tenth of the size at their ends, a CAD artefact) are
+  // collapsed: their two vertices become one node, and the triangles that would span them
+  // collapse like those at a pole.
+  std::vector<int> root(static_cast<std::size_t>(nv) + 1);
+  for (int v = 0; v <= nv; ++v) root[static_cast<std::size_t>(v)] = v;
+  auto find = [&](int v) {
+    while (root[static_cast<std::size_t>(v)] != v) v = root[static_cast<std::size_t>(v)] = root[static_cast<std::size_t>(root[static_cast<std::size_t>(v)])];
+    return v;
+  };
+  std::vector<bool> micro(static_cast<std::size_t>(cad.num_edges()), false);
+  for (int e = 1; e <= cad.num_edges(); ++e) {
+    const auto [v0, v1] = cad.edge_vertices(e);
+    if (v0 <= 0 || v1 <= 0) throw Error("edge " + std::to_string(e) + " has no vertex at an end");
+    if (cad.edge_degenerate(e) || v0 == v1) continue;
+    const double h = std::min(size.vertex_size(v0), size.vertex_size(v1));
+    if (cad.edge_length(e) >= 0.1 * h) continue;
+    micro[static_cast<std::size_t>(e - 1)] = true;
+    const int a = find(v0), b = find(v1);
+    if (a != b) root[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+  }
+  auto vertex_node = [&](int v) { return find(v) - 1; };
   for (int e = 1; e <= cad.num_edges(); ++e) {
     auto& ts = p.t[static_cast<std::size_t>(e - 1)];
     auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
-    ts = edge_parameters(cad, size, caps, e, density[static_cast<std::size_t>(e - 1)]);
     const auto [v0, v1] = cad.edge_vertices(e);
-    if (v0 <= 0 || v1 <= 0) throw Error("edge " + std::to_string(e) + " has no vertex at an end");
+    if (micro[static_cast<std::size_t>(e - 1)]) {
+      const Vec2 r = cad.edge_range(e);
+      ts = {r[0], r[1]};
+      nodes = {vertex_node(v0), vertex_node(v1)};
+      continue;
+    }
+    ts = edge_parameters(cad, size, caps, e, density[static_cast<std::size_t>(e - 1)]);
     for (std::size_t i = 0; i < ts.size(); ++i) {
       const bool first = i == 0, last = i + 1 == ts.size();
       const double s =
@@ -111,10 +137,9 @@ void build_points(const CadModel& cad, const SizeField& size, const Caps& caps,
       const double h =
           cad.edge_degenerate(e) ? size.vertex_size(v0) : capped_size(size, caps, e, ts[i], s);
       if (first || last) {
-        const int v = first ? v0 : v1;
-        nodes.push_back(v - 1);
-        p.size[static_cast<std::size_t>(v - 1)] =
-            std::min(p.size[static_cast<std::size_t>(v - 1)], h);
+        const int n = vertex_node(first ? v0 : v1);
+        nodes.push_back(n);
+        p.size[static_cast<std::size_t>(n)] = std::min(p.size[static_cast<std::size_t>(n)], h);
         continue;
       }
       nodes.push_back(static_cast<int>(p.xyz.size()));

@@ -455,16 +455,37 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
   return out;
 }
 
-std::vector<Candidate> place_greedily(std::vector<Candidate>& cands, std::vector<char>& used,
-                                      ConformityIndex& index) {
+std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candidate>& cands,
+                                      std::vector<char>& used, ConformityIndex& index,
+                                      const FillRules& rules) {
   std::sort(cands.begin(), cands.end());
+  // Free tets around each vertex: a candidate with a corner whose tets are all taken cannot be
+  // filled, and most candidates are rejected by this before any search.
+  const TetMesh& m = topo.mesh();
+  std::vector<std::int32_t> free_around(m.nodes.size(), 0);
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    if (!used[t])
+      for (std::int32_t v : m.tets[t]) ++free_around[v];
+  FillScratch scratch;
   std::vector<Candidate> kept;
-  for (const Candidate& c : cands) {
-    bool free = true;
-    for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
-    if (!free || index.conflicts(c)) continue;
-    for (std::int32_t t : c.tets)
-      if (t >= 0) used[t] = 1;
+  for (Candidate& c : cands) {
+    const int nn = num_nodes(c.kind);
+    bool possible = true;
+    for (int i = 0; i < nn && possible; ++i) possible = free_around[c.nodes[i]] > 0;
+    if (!possible) continue;
+    if (c.tets[0] < 0) {
+      if (!fills_element(topo, c, &used, rules, scratch)) continue;
+    } else {
+      bool free = true;
+      for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
+      if (!free) continue;
+    }
+    if (index.conflicts(c)) continue;
+    for (std::int32_t t : c.tets) {
+      if (t < 0) continue;
+      used[t] = 1;
+      for (std::int32_t v : m.tets[t]) --free_around[v];
+    }
     index.add(c);
     kept.push_back(c);
   }

@@ -174,9 +174,11 @@ using FindCandidates =
     std::function<void(std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out)>;
 std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find);
 
-// Greedy best-first placement: sorts `cands` and keeps each one whose tets are all free and that
-// breaks no conformity rule. Marks the tets used; returns the kept candidates in order.
-std::vector<Candidate> place_greedily(std::vector<Candidate>& cands, std::vector<char>& used,
-                                      ConformityIndex& index);
+// Greedy best-first placement: sorts `cands` and keeps each one that tets fill (fills_element,
+// for candidates whose tets are not known yet), whose tets are all free and that breaks no
+// conformity rule. Marks the tets used; returns the kept candidates in order.
+std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candidate>& cands,
+                                      std::vector<char>& used, ConformityIndex& index,
+                                      const FillRules& rules);
 
 }  // namespace hexfem

@@ -13,8 +13,8 @@ namespace {
 //   1:(2,0,5) 2:(3,1,6) 3:(0,2,7) 4:(7,5,0) 5:(4,6,1) 6:(5,7,2) 7:(6,4,3).
 // From lowest vertex v = p0 and p1 < p3, p1 < p4 (one of the three rotations about p0), each hex
 // has exactly one labelling, so each is found once.
-void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, const FillRules& rules,
-                FillScratch& scratch, std::vector<Candidate>& out) {
+void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratch& scratch,
+                std::vector<Candidate>& out) {
   const auto& X = topo.mesh().nodes;
   auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
     return corner_jacobian(X[o], X[a], X[b], X[c]) >= qmin;
@@ -71,7 +71,7 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, const Fill
                 Candidate c;
                 c.kind = CellKind::Hex8;
                 c.nodes = {v, p1, p2, p3, p4, p5, p6, p7};
-                if (!fills_element(topo, c, nullptr, rules, scratch)) continue;
+                c.tets.fill(-1);  // found by fills_element when the greedy pass reaches it
                 Vec3 x[8];
                 for (int n = 0; n < 8; ++n) x[n] = X[c.nodes[n]];
                 c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Hex8, x));
@@ -91,7 +91,7 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, const Fill
 std::vector<Candidate> enumerate_hexes(const TetTopology& topo, const HexOptions& options) {
   return collect_candidates(static_cast<std::int32_t>(topo.num_vertices()),
                             [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
-                              hexes_from(topo, v, options.min_quality, options.fill, scratch, out);
+                              hexes_from(topo, v, options.min_quality, scratch, out);
                             });
 }
 

@@ -14,8 +14,7 @@ namespace {
 // From lowest vertex v = p0, the labelling is unique (p3 is v's edge to the other triangle,
 // p1/p2 ordered by orientation), so each prism is found once.
 void prisms_from(const TetTopology& topo, const std::vector<char>& used, std::int32_t v,
-                 double qmin, const FillRules& rules, FillScratch& scratch,
-                 std::vector<Candidate>& out) {
+                 double qmin, FillScratch& scratch, std::vector<Candidate>& out) {
   bool any_free = false;
   for (auto it = topo.star_begin(v); it != topo.star_end(v) && !any_free; ++it)
     any_free = !used[*it];
@@ -81,7 +80,7 @@ void prisms_from(const TetTopology& topo, const std::vector<char>& used, std::in
           Candidate c;
           c.kind = CellKind::Wedge6;
           c.nodes = {v, p1, p2, p3, p4, p5, -1, -1};
-          if (!fills_element(topo, c, &used, rules, scratch)) continue;
+          c.tets.fill(-1);  // checked by place_greedily
           Vec3 x[6];
           for (int k = 0; k < 6; ++k) x[k] = X[c.nodes[k]];
           c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Wedge6, x));
@@ -119,8 +118,7 @@ std::vector<Candidate> enumerate_prisms(const TetTopology& topo, const std::vect
                                         const PrismOptions& options) {
   return collect_candidates(static_cast<std::int32_t>(topo.num_vertices()),
                             [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
-                              prisms_from(topo, used, v, options.min_quality, options.fill, scratch,
-                                          out);
+                              prisms_from(topo, used, v, options.min_quality, scratch, out);
                             });
 }
 

@@ -15,7 +15,7 @@ struct PrismOptions {
   FillRules fill;
 };
 
-// Candidate prisms made only of free tets, sorted best first.
+// Candidate prisms around free tets, sorted best first (filled by place_greedily, like hexes).
 std::vector<Candidate> enumerate_prisms(const TetTopology& topo, const std::vector<char>& used,
                                         const PrismOptions& options);
 

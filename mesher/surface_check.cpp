@@ -33,6 +33,22 @@ bool is_right_isosceles(const Vec3& a, const Vec3& b, const Vec3& c) {
 TriangleQuality triangle_quality(const MixedMesh& m) {
   TriangleQuality q;
   std::size_t ri = 0;
+  // Mesh edges on CAD edges: the two triangles along them belong to different CAD faces.
+  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+  for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
+    const auto* t = m.bface(f);
+    const int nv = m.bface_is_quad(f) ? 4 : 3;
+    for (int k = 0; k < nv; ++k) {
+      const int a = t[k], b = t[(k + 1) % nv];
+      edge_faces[{std::min(a, b), std::max(a, b)}].push_back(m.bface_cad_face[f]);
+    }
+  }
+  auto on_cad_edge = [&](int a, int b) {
+    const auto it = edge_faces.find({std::min(a, b), std::max(a, b)});
+    if (it == edge_faces.end()) return false;
+    const auto& fs = it->second;
+    return std::any_of(fs.begin(), fs.end(), [&](int x) { return x != fs.front(); });
+  };
   for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
     if (m.bface_is_quad(f)) continue;
     const auto* t = m.bface(f);
@@ -43,7 +59,12 @@ TriangleQuality triangle_quality(const MixedMesh& m) {
     const double lo = std::min({ang[0], ang[1], ang[2]}), hi = std::max({ang[0], ang[1], ang[2]});
     q.min_angle = std::min(q.min_angle, lo);
     q.max_angle = std::max(q.max_angle, hi);
-    if (lo < 5) ++q.below_5;
+    if (lo < 5) {
+      ++q.below_5;
+      const int k = ang[0] == lo ? 0 : ang[1] == lo ? 1 : 2;
+      if (on_cad_edge(t[k], t[(k + 1) % 3]) && on_cad_edge(t[k], t[(k + 2) % 3]))
+        ++q.below_5_at_sharp_corners;
+    }
     if (is_right_isosceles(a, b, c)) ++ri;
     ++q.triangles;
   }

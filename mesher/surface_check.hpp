@@ -20,6 +20,9 @@ struct TriangleQuality {
   std::size_t triangles = 0;
   double min_angle = 180, max_angle = 0;  // degrees
   std::size_t below_5 = 0;                // triangles with an angle below 5°
+  // Of those, the ones whose smallest angle sits between two edges on CAD edges (a corner of
+  // a face sharper than 5° in the CAD model, which no triangulation of the face can avoid).
+  std::size_t below_5_at_sharp_corners = 0;
   double right_isosceles_share = 0;
 };
 TriangleQuality triangle_quality(const MixedMesh& mesh);

@@ -110,6 +110,32 @@ std::vector<std::pair<std::size_t, Vec2>> shared_diagonals(
   return out;
 }
 
+// Removes nodes no triangle uses (the second vertex of a collapsed micro edge), keeping the
+// order of the others.
+void drop_unused_nodes(SurfaceMesh& s) {
+  MixedMesh& m = s.mesh;
+  std::vector<int> index(m.nodes.size(), -1);
+  for (int n : m.bface_nodes)
+    if (n >= 0) index[static_cast<std::size_t>(n)] = 0;
+  int next = 0;
+  for (std::size_t i = 0; i < index.size(); ++i) {
+    if (index[i] < 0) continue;
+    index[i] = next;
+    const auto j = static_cast<std::size_t>(next++);
+    m.nodes[j] = m.nodes[i];
+    s.frame[j] = s.frame[i];
+    s.size[j] = s.size[i];
+    s.on_edge[j] = s.on_edge[i];
+  }
+  const auto n = static_cast<std::size_t>(next);
+  m.nodes.resize(n);
+  s.frame.resize(n);
+  s.size.resize(n);
+  s.on_edge.resize(n);
+  for (int& v : m.bface_nodes)
+    if (v >= 0) v = index[static_cast<std::size_t>(v)];
+}
+
 // A solid whose boundary uses an edge more than twice (two lumps touching along an edge)
 // has no 2-manifold surface mesh: refused with the edge and its faces named.
 void require_manifold_solids(const CadModel& cad) {
@@ -199,6 +225,13 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
                   options.h, refined, options.max_points);
     throw Error(msg);
   }
+  // A face whose boundary collapsed to fewer than three nodes (all its edges micro edges)
+  // has no area to mesh; its neighbours close over it.
+  std::vector<bool> collapsed(static_cast<std::size_t>(nf), false);
+  for (std::size_t k = 0; k < collapsed.size(); ++k) {
+    std::set<int> distinct(boundary[k].node.begin(), boundary[k].node.end());
+    collapsed[k] = distinct.size() < 3;
+  }
   rep.stage_seconds.emplace_back("edge points", seconds_since(t0));
 
   t0 = Clock::now();
@@ -206,9 +239,10 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
   std::vector<std::optional<FaceField>> field(static_cast<std::size_t>(nf));
   parallel_for(nf, [&](int i) {
     const auto k = static_cast<std::size_t>(i);
-    field[k].emplace(cad, faces[k], boundary[k], edges, size);
+    if (!collapsed[k]) field[k].emplace(cad, faces[k], boundary[k], edges, size);
   });
-  for (const auto& fl : field) rep.background_triangles += fl->background_triangles();
+  for (const auto& fl : field)
+    if (fl) rep.background_triangles += fl->background_triangles();
   rep.stage_seconds.emplace_back("cross field", seconds_since(t0));
 
   t0 = Clock::now();
@@ -219,7 +253,7 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
     PackingOptions po;
     po.k = options.k;
     po.budget = static_cast<std::size_t>(budget[k]);
-    pts[k] = pack_face(cad, *field[k], boundary[k], edges, po);
+    if (!collapsed[k]) pts[k] = pack_face(cad, *field[k], boundary[k], edges, po);
   });
   for (const auto& p : pts) rep.candidates += p.candidates;
   rep.stage_seconds.emplace_back("packing", seconds_since(t0));
@@ -229,7 +263,7 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
   std::vector<FaceTriangles> tris(static_cast<std::size_t>(nf));
   parallel_for(nf, [&](int i) {
     const auto k = static_cast<std::size_t>(i);
-    tris[k] = triangulate_face(faces[k], boundary[k], pts[k], edges, field[k]->scale());
+    if (!collapsed[k]) tris[k] = triangulate_face(faces[k], boundary[k], pts[k], edges, field[k]->scale());
   });
   // A face with no interior point near two of its edges may join them by a diagonal that a
   // neighbouring face sharing both edges draws too (two half cylinders of a small hole): the
@@ -264,7 +298,7 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
     const auto& b = boundary[static_cast<std::size_t>(i)];
     for (std::size_t p = 0; p < b.uv.size(); ++p) {
       const auto n = static_cast<std::size_t>(b.node[p]);
-      if (owner_face[n] < 0) owner_face[n] = i, owner_uv[n] = b.uv[p];
+      if (owner_face[n] < 0 && !collapsed[static_cast<std::size_t>(i)]) owner_face[n] = i, owner_uv[n] = b.uv[p];
     }
   }
   for (int i = 0; i < nf; ++i) {
@@ -340,7 +374,8 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
   out.faces_of_solid.resize(static_cast<std::size_t>(cad.num_solids()) + 1);
   for (int s = 1; s <= cad.num_solids(); ++s)
     out.faces_of_solid[static_cast<std::size_t>(s)] = cad.faces_of_solid(s);
-  rep.points = nn;
+  drop_unused_nodes(out);
+  rep.points = m.nodes.size();
   rep.triangles = m.num_bfaces();
   rep.quality = triangle_quality(m);
   rep.stage_seconds.emplace_back("assembly", seconds_since(t0));

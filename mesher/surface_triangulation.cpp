@@ -88,11 +88,15 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
       throw Error("face " + std::to_string(f) +
                   ": a boundary segment was lost in the triangulation");
   }
+  FaceTriangles out;
+  if (cdt.dimension() < 2) {
+    out.interior_used.assign(in.uv.size(), false);
+    return out;
+  }
   mark_nesting_levels(cdt);
 
   // Flips toward the Delaunay criterion on the 3D triangles, kept only where the flipped pair
   // stays valid in the parameter plane.
-  FaceTriangles out;
   auto in_domain = [&](CDT::Face_handle fh) { return !cdt.is_infinite(fh) && fh->info() % 2 == 1; };
   const std::size_t max_flips = 20 * static_cast<std::size_t>(cdt.number_of_faces()) + 100;
   for (int pass = 0; pass < 50; ++pass) {

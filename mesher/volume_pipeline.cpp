@@ -1,9 +1,12 @@
 #include "mesher/volume_pipeline.hpp"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -28,19 +31,41 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// CPU time of this process's threads and of its finished children (TetGen runs in one).
+double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  rusage ru{};
+  getrusage(RUSAGE_CHILDREN, &ru);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec + ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec +
+         ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
+}
+
 class StageTimer {
  public:
-  explicit StageTimer(VolumeReport& r) : r_(r), start_(Clock::now()), last_(start_) {}
+  explicit StageTimer(VolumeReport& r)
+      : r_(r),
+        start_(Clock::now()),
+        last_(start_),
+        cpu_start_(cpu_seconds()),
+        cpu_last_(cpu_start_) {}
   void stage(const char* name) {
     const auto now = Clock::now();
-    r_.stages.push_back({name, std::chrono::duration<double>(now - last_).count()});
+    const double cpu = cpu_seconds();
+    r_.stages.push_back(
+        {name, std::chrono::duration<double>(now - last_).count(), cpu - cpu_last_});
     last_ = now;
+    cpu_last_ = cpu;
   }
-  void finish() { r_.total_seconds = std::chrono::duration<double>(Clock::now() - start_).count(); }
+  void finish() {
+    r_.total_seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+    r_.total_cpu_seconds = cpu_seconds() - cpu_start_;
+  }
 
  private:
   VolumeReport& r_;
   Clock::time_point start_, last_;
+  double cpu_start_, cpu_last_;
 };
 
 // Cells, boundary faces (two surface triangles under a hex/prism quad become that quad, with the
@@ -139,7 +164,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options,
   ho.fill.max_face_twist = options.max_face_twist;
   std::vector<Candidate> cands = enumerate_hexes(topo, ho);
   r.hex_candidates = cands.size();
-  std::vector<Candidate> elements = place_greedily(cands, used, index);
+  std::vector<Candidate> elements = place_greedily(topo, cands, used, index, ho.fill);
   cands = {};
   timer.stage("hexes");
 
@@ -150,7 +175,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options,
     pr.fill.max_face_twist = options.max_face_twist;
     std::vector<Candidate> pc = enumerate_prisms(topo, used, pr);
     r.prism_candidates = pc.size();
-    const auto kept = place_greedily(pc, used, index);
+    const auto kept = place_greedily(topo, pc, used, index, pr.fill);
     elements.insert(elements.end(), kept.begin(), kept.end());
   }
   r.absorbed_slivers = absorb_face_slivers(topo, elements, used, SliverPolicy::kSharedFaces).size();
@@ -225,9 +250,11 @@ nlohmann::json volume_report_json(const VolumeReport& r) {
   j["volume_mixed"] = r.volume_mixed;
   j["volume_rel_gap"] = r.volume_rel_gap;
   nlohmann::json stages = nlohmann::json::array();
-  for (const auto& s : r.stages) stages.push_back({{"stage", s.name}, {"seconds", s.seconds}});
+  for (const auto& s : r.stages)
+    stages.push_back({{"stage", s.name}, {"seconds", s.seconds}, {"cpu_seconds", s.cpu_seconds}});
   j["stages"] = stages;
   j["total_seconds"] = r.total_seconds;
+  j["total_cpu_seconds"] = r.total_cpu_seconds;
   j["threads"] = r.threads;
   return j;
 }
@@ -254,8 +281,10 @@ std::string volume_report_text(const VolumeReport& r) {
   line("inverted        %zu", r.inverted);
   line("volume          tets %.9g, mixed %.9g, gap %.2e", r.volume_tets, r.volume_mixed,
        r.volume_rel_gap);
-  for (const auto& st : r.stages) line("time %-22s %.3f s", st.name.c_str(), st.seconds);
-  line("time total                 %.3f s (%d threads)", r.total_seconds, r.threads);
+  for (const auto& st : r.stages)
+    line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);
+  line("time total                 %8.3f s wall %8.3f s cpu (%d threads)", r.total_seconds,
+       r.total_cpu_seconds, r.threads);
   return s;
 }
 

@@ -28,7 +28,8 @@ struct VolumeOptions {
 struct VolumeReport {
   struct Stage {
     std::string name;
-    double seconds = 0;
+    double seconds = 0;      // wall clock
+    double cpu_seconds = 0;  // CPU time of all threads (and of the TetGen child process)
   };
   std::size_t surface_vertices = 0, interior_points = 0, steiner_points = 0, vertices = 0;
   std::size_t frontal_points = 0;    // random mode: the frontal count it aimed at
@@ -46,7 +47,7 @@ struct VolumeReport {
   std::size_t boundary_triangles = 0, boundary_quads = 0;
   double volume_tets = 0, volume_mixed = 0, volume_rel_gap = 0;  // gap = |mixed - tets| / tets
   std::vector<Stage> stages;
-  double total_seconds = 0;
+  double total_seconds = 0, total_cpu_seconds = 0;
   int threads = 1;
 };
 

@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf(
-      "| model | h | points | area/h² | right-isosceles | min angle | <5° | closed+oriented+no "
+      "| model | h | points | area/h² | right-isosceles | min angle | <5° (at sharp CAD corners) | closed+oriented+no "
       "self-int. | volume error | read | size | edges | cross field | packing | triangulation | "
       "assembly | total |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");

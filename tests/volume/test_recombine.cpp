@@ -43,7 +43,7 @@ TEST(RecombineHex, FindsEveryCubeOfAKuhnLattice) {
   std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
   std::vector<char> used(L.tets.tets.size(), 0);
   ConformityIndex index;
-  const auto hexes = place_greedily(cands, used, index);
+  const auto hexes = place_greedily(topo, cands, used, index, FillRules{});
   ASSERT_EQ(hexes.size(), 24u);
   for (const Candidate& h : hexes) {
     EXPECT_FLOAT_EQ(h.quality, 1.0f);
@@ -66,11 +66,15 @@ TEST(RecombineHex, QuadAcrossTwoCadFacesIsNotMade) {
       L.surface.mesh.bface_cad_face[f] = 7;
       ++changed;
     }
-  const TetTopology topo(L.tets, L.surface);
-  EXPECT_TRUE(enumerate_hexes(topo, HexOptions{}).empty());
-  const Lattice ok = lattice_of_tets(1, 1, 1, CellKind::Tet4);
-  const TetTopology topo_ok(ok.tets, ok.surface);
-  EXPECT_EQ(enumerate_hexes(topo_ok, HexOptions{}).size(), 1u);
+  auto hexes_made = [](const Lattice& l) {
+    const TetTopology topo(l.tets, l.surface);
+    std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
+    std::vector<char> used(l.tets.tets.size(), 0);
+    ConformityIndex index;
+    return place_greedily(topo, cands, used, index, FillRules{}).size();
+  };
+  EXPECT_EQ(hexes_made(L), 0u);
+  EXPECT_EQ(hexes_made(lattice_of_tets(1, 1, 1, CellKind::Tet4)), 1u);
 }
 
 TEST(RecombinePrism, FindsPrismsWhenHexesAreNotMade) {
@@ -79,7 +83,7 @@ TEST(RecombinePrism, FindsPrismsWhenHexesAreNotMade) {
   std::vector<char> used(L.tets.tets.size(), 0);
   std::vector<Candidate> pc = enumerate_prisms(topo, used, PrismOptions{});
   ConformityIndex index;
-  const auto prisms = place_greedily(pc, used, index);
+  const auto prisms = place_greedily(topo, pc, used, index, FillRules{});
   // 24 tets: at most 8 prisms of three tets; each kept prism is valid and made of 3 tets.
   EXPECT_GE(prisms.size(), 4u);
   for (const Candidate& p : prisms) {
