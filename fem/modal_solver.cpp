@@ -133,6 +133,29 @@ std::vector<std::int32_t> fill_reducing_node_order(const MixedMesh& mesh) {
 }
 #endif
 
+// Inverted cells have negative stiffness and flat ones (volume ~0) a stiffness ~1/volume that
+// swamps the spectrum; either makes the frequencies meaningless, so both are refused.
+void reject_invalid_cells(const MixedMesh& mesh) {
+  long inverted = 0, degenerate = 0, first_inverted = -1, first_degenerate = -1;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+    if (cell_is_inverted(mesh, c)) {
+      if (inverted++ == 0) first_inverted = static_cast<long>(c);
+    } else if (cell_is_degenerate(mesh, c)) {
+      if (degenerate++ == 0) first_degenerate = static_cast<long>(c);
+    }
+  }
+  auto first = [&](long c) {
+    return "(first: cell " + std::to_string(c + 1) + ", " + kind_name(mesh.cell_kind[c]) + ")";
+  };
+  if (inverted > 0)
+    throw Error("the mesh has " + std::to_string(inverted) + " inverted cell(s) " +
+                first(first_inverted) + "; fix the mesh before a modal analysis");
+  if (degenerate > 0)
+    throw Error("the mesh has " + std::to_string(degenerate) +
+                " degenerate (flat) cell(s) with scaled Jacobian below 1e-6 " +
+                first(first_degenerate) + "; fix the mesh before a modal analysis");
+}
+
 }  // namespace
 
 EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const EigenOptions& options) {
@@ -200,13 +223,7 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
   if (options.num_modes < 1)
     throw Error("the number of modes must be at least 1 (got " + std::to_string(options.num_modes) +
                 ")");
-  long inverted = 0, first = -1;
-  for (std::size_t c = 0; c < mesh.num_cells(); ++c)
-    if (cell_is_inverted(mesh, c) && inverted++ == 0) first = static_cast<long>(c);
-  if (inverted > 0)
-    throw Error("the mesh has " + std::to_string(inverted) + " inverted cell(s) (first: cell " +
-                std::to_string(first + 1) + ", " + kind_name(mesh.cell_kind[first]) +
-                "); fix the mesh before a modal analysis");
+  reject_invalid_cells(mesh);
 
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<std::uint8_t> fixed = select_fixed_dofs(mesh, options.fix);

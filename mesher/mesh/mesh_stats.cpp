@@ -75,7 +75,10 @@ MeshStats compute_stats(const MixedMesh& mesh) {
     const double sj = cell_min_scaled_jacobian(mesh, c);
     min_sj[k] = std::min(min_sj[k], sj);
     if (mesh.cell_kind[c] == CellKind::Hex8) q_sum += sj;
-    if (cell_is_inverted(mesh, c)) ++s.inverted;
+    if (cell_is_inverted(mesh, c))
+      ++s.inverted;
+    else if (sj < kDegenerateScaledJacobian)
+      ++s.degenerate;
   }
   for (int k = 0; k < kNumCellKinds; ++k)
     s.min_sj_per_kind[k] = s.cells_per_kind[k] ? min_sj[k] : 0.0;
@@ -141,6 +144,7 @@ nlohmann::json stats_to_json(const MeshStats& s) {
   j["Q_mean"] = s.q_mean;
   j["Q_min"] = s.q_min;
   j["inverted"] = s.inverted;
+  j["degenerate"] = s.degenerate;
   j["interior_quads"] = s.interior_quads;
   j["nonconformal_quads"] = s.nonconformal_quads;
   j["NC"] = s.nc_percent;
@@ -158,17 +162,19 @@ std::string stats_to_text(const MeshStats& s) {
                 "H_nbr            %.2f %%\n"
                 "H_vol            %.2f %%\n"
                 "Q (hex mean/min) %.4f / %.4f\n"
-                "min scaled Jac.  hex8 %.4f, wedge6 %.4f, pyramid5 %.4f, tet4 %.4f\n"
+                "min scaled Jac.  hex8 %.4g, wedge6 %.4g, pyramid5 %.4g, tet4 %.4g\n"
                 "inverted         %zu\n"
+                "degenerate       %zu (scaled Jacobian < %g)\n"
                 "NC               %.2f %% (%zu of %zu interior quad faces)\n"
                 "boundary         %s (%zu faces, %zu open edges)\n"
                 "volume           %.10g\n",
                 s.num_nodes, s.num_cells, s.cells_per_kind[3], s.cells_per_kind[2],
                 s.cells_per_kind[1], s.cells_per_kind[0], s.h_nbr, s.h_vol, s.q_mean, s.q_min,
                 s.min_sj_per_kind[3], s.min_sj_per_kind[2], s.min_sj_per_kind[1],
-                s.min_sj_per_kind[0], s.inverted, s.nc_percent, s.nonconformal_quads,
-                s.interior_quads, s.watertight ? "watertight" : "NOT watertight",
-                s.boundary_faces_derived, s.open_boundary_edges, s.volume);
+                s.min_sj_per_kind[0], s.inverted, s.degenerate, kDegenerateScaledJacobian,
+                s.nc_percent, s.nonconformal_quads, s.interior_quads,
+                s.watertight ? "watertight" : "NOT watertight", s.boundary_faces_derived,
+                s.open_boundary_edges, s.volume);
   return buf;
 }
 

@@ -20,6 +20,7 @@ struct MeshStats {
   double q_min = 0;                    // min over hexes (0 when there is no hex)
   std::array<double, kNumCellKinds> min_sj_per_kind{};  // 0 when the kind is absent
   std::size_t inverted = 0;                             // cells with a corner Jacobian <= 0
+  std::size_t degenerate = 0;  // not inverted, min scaled Jacobian < kDegenerateScaledJacobian
   std::size_t interior_quads = 0;
   std::size_t nonconformal_quads = 0;
   double nc_percent = 0;                   // % of interior quad faces that are NC

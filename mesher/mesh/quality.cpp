@@ -172,4 +172,9 @@ bool cell_is_inverted(const MixedMesh& mesh, std::size_t c) {
   return false;
 }
 
+bool cell_is_degenerate(const MixedMesh& mesh, std::size_t c) {
+  return !cell_is_inverted(mesh, c) &&
+         cell_min_scaled_jacobian(mesh, c) < kDegenerateScaledJacobian;
+}
+
 }  // namespace hexfem

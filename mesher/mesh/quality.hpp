@@ -21,6 +21,14 @@ double cell_min_scaled_jacobian(const MixedMesh& mesh, std::size_t c);
 // True when some corner has a Jacobian determinant <= 0 (the cell is inverted or flat).
 bool cell_is_inverted(const MixedMesh& mesh, std::size_t c);
 
+// A cell that is not inverted but so flat (min scaled Jacobian below this) that its stiffness
+// is ~1/volume and ruins the conditioning of K: a solver must refuse it like an inverted one.
+inline constexpr double kDegenerateScaledJacobian = 1e-6;
+
+// True when the cell is not inverted and its min scaled Jacobian is below
+// kDegenerateScaledJacobian.
+bool cell_is_degenerate(const MixedMesh& mesh, std::size_t c);
+
 // Same measures from raw corner coordinates (kind's Gmsh ordering), for candidate elements
 // that are not in a mesh yet (the recombination scores its hexes this way).
 double min_scaled_jacobian(CellKind kind, const Vec3* corners);

@@ -8,8 +8,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "mesher/mesh/mesh_io.hpp"
+#include "mesher/mesh/quality.hpp"
 #include "mesher/mesh/structured_box.hpp"
 
 namespace hexfem {
@@ -127,6 +129,26 @@ TEST(ModalCli, InvertedElementIsAnError) {
   const fs::path p = work("inverted.msh");
   write_mesh(m, p);
   expect_error(p.string() + " --fix face:1", "inverted");
+}
+
+TEST(ModalCli, FlatElementIsAnError) {
+  // A unit hex with a tet on its top face whose apex is 1e-10 above that face: nothing is
+  // inverted, but the tet is flat (scaled Jacobian ~1e-10) and must be refused.
+  MixedMesh m = make_box_mesh({1, 1, 1}, 1, 1, 1, CellKind::Hex8);
+  std::vector<std::int32_t> tri;
+  for (std::size_t i = 0; i < m.nodes.size(); ++i)
+    if (m.nodes[i][2] == 1.0 && !(m.nodes[i][0] == 1.0 && m.nodes[i][1] == 1.0))
+      tri.push_back(static_cast<std::int32_t>(i));
+  ASSERT_EQ(tri.size(), 3u);
+  m.nodes.push_back({0.3, 0.3, 1 + 1e-10});
+  const auto apex = static_cast<std::int32_t>(m.nodes.size() - 1);
+  m.add_cell(CellKind::Tet4, {tri[0], tri[1], tri[2], apex});
+  if (cell_is_inverted(m, 1)) std::swap(m.cell_nodes[8 + 0], m.cell_nodes[8 + 1]);
+  ASSERT_FALSE(cell_is_inverted(m, 1));
+  ASSERT_TRUE(cell_is_degenerate(m, 1));
+  const fs::path p = work("flat.msh");
+  write_mesh(m, p);
+  expect_error(p.string() + " --free --units mm", "degenerate");
 }
 
 TEST(ModalCli, FreeFreeNeedsNoFix) {

@@ -96,6 +96,29 @@ TEST(Quality, InvertedHexIsCounted) {
   EXPECT_EQ(compute_stats(unit_hex()).inverted, 0u);
 }
 
+TEST(Quality, FlatTetIsDegenerateNotInverted) {
+  // Apex 1e-9 above the base plane: every corner Jacobian is positive (det = 1e-9 at corner 0),
+  // but the scaled Jacobian is ~1e-9, so the tet counts as degenerate. At 1e-3 it is a poor but
+  // usable tet.
+  auto tet_at = [](double height) {
+    MixedMesh m;
+    m.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, height}};
+    m.add_cell(CellKind::Tet4, {0, 1, 2, 3});
+    return m;
+  };
+  const MixedMesh flat = tet_at(1e-9);
+  EXPECT_FALSE(cell_is_inverted(flat, 0));
+  EXPECT_TRUE(cell_is_degenerate(flat, 0));
+  EXPECT_EQ(compute_stats(flat).degenerate, 1u);
+  EXPECT_EQ(compute_stats(flat).inverted, 0u);
+  const MixedMesh thin = tet_at(1e-3);
+  EXPECT_FALSE(cell_is_degenerate(thin, 0));
+  EXPECT_EQ(compute_stats(thin).degenerate, 0u);
+  MixedMesh below = tet_at(-1e-9);
+  EXPECT_TRUE(cell_is_inverted(below, 0));
+  EXPECT_FALSE(cell_is_degenerate(below, 0));
+}
+
 TEST(Quality, HexWithSplitTopFaceIsNonConformal) {
   const MixedMesh m = testing::hex_with_split_top();
   const MeshStats s = compute_stats(m);
