@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "fem/boundary.hpp"
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/progress.hpp"
@@ -54,6 +55,15 @@ PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_opti
                 " inverted elements");
   r.stats = compute_stats(r.mesh);
 
+  if (!modal_options.fix.empty()) {
+    // The user asked for a fixed analysis: a fixed set that lets the part move is their mistake
+    // (one component only, a single edge, ...), reported before the solve.
+    const int unheld =
+        count_unheld_rigid_motions(r.mesh, select_fixed_dofs(r.mesh, modal_options.fix));
+    if (unheld > 0)
+      throw Error("the fixed set leaves the part free to move (" + std::to_string(unheld) +
+                  " of 6 rigid-body motions not held); fix a face or more components");
+  }
   modal_options.length_scale = 1e-3;  // CAD lengths are millimetres; the solve is in SI
   show_progress("solving " + std::to_string(3 * r.mesh.nodes.size()) + " DOFs...");
   t0 = Clock::now();

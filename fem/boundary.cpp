@@ -1,5 +1,6 @@
 #include "fem/boundary.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cctype>
 #include <limits>
@@ -225,6 +226,43 @@ Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduce
   for (std::size_t i = 0; i < map.dof.size(); ++i)
     if (map.dof[i] >= 0) full[static_cast<Eigen::Index>(i)] = reduced[map.dof[i]];
   return full;
+}
+
+int count_unheld_rigid_motions(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed) {
+  // Centre and scale the coordinates so translations and rotations weigh alike.
+  std::vector<std::uint8_t> used(mesh.nodes.size(), 0);
+  for (std::int32_t n : mesh.cell_nodes)
+    if (n >= 0) used[n] = 1;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
+  for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+    if (!used[i]) continue;
+    const Eigen::Vector3d x(mesh.nodes[i][0], mesh.nodes[i][1], mesh.nodes[i][2]);
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  const double length = std::max((hi - lo).norm(), std::numeric_limits<double>::min());
+
+  // Rows of the rigid-motion basis at one fixed DOF (node i, component a): translation e_a and
+  // rotations r_k = e_k x (x - c) / L, whose component a is (e_k x d)_a.
+  Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Zero();
+  for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
+    if (!used[i]) continue;
+    const Eigen::Vector3d d =
+        (Eigen::Vector3d(mesh.nodes[i][0], mesh.nodes[i][1], mesh.nodes[i][2]) - centre) / length;
+    for (int a = 0; a < 3; ++a) {
+      if (!fixed[3 * i + a]) continue;
+      Eigen::Matrix<double, 6, 1> row = Eigen::Matrix<double, 6, 1>::Zero();
+      row[a] = 1;
+      for (int k = 0; k < 3; ++k) row[3 + k] = Eigen::Vector3d::Unit(k).cross(d)[a];
+      gram += row * row.transpose();
+    }
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram);
+  const double top = eig.eigenvalues().maxCoeff();
+  int unheld = 0;
+  for (int k = 0; k < 6; ++k) unheld += !(eig.eigenvalues()[k] > 1e-10 * top);
+  return unheld;
 }
 
 }  // namespace hexfem

@@ -42,6 +42,12 @@ struct DofMap {
 DofMap number_free_dofs(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
                         const std::vector<std::int32_t>& node_order = {});
 
+// How many of the six rigid-body motions (three translations, three rotations) the fixed DOFs
+// do not hold: 0 for a clamped face, 3 for one fixed node, 1 for nodes on a line (rotation
+// about it), etc. Judged on the rigid motions restricted to the fixed DOFs (the rank of their
+// 6x6 Gram matrix), so it needs no solve. Nodes that belong to no cell are ignored.
+int count_unheld_rigid_motions(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed);
+
 // Full nodal vector (3 * nodes, zeros at eliminated DOFs) from a vector of free DOFs.
 Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduced);
 

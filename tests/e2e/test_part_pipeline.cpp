@@ -60,6 +60,10 @@ TEST(PartPipeline, BadInputIsReported) {
   missing.fix = {"face:99"};
   EXPECT_NE(error_of([&] { run_part_modal(cad, options, missing); }).find("face 99 does not exist"),
             std::string::npos);
+  ModalOptions sliding = clamped_steel();
+  sliding.fix = {"face:8@x"};  // only the axial component: the part slides and turns
+  EXPECT_NE(error_of([&] { run_part_modal(cad, options, sliding); }).find("free to move"),
+            std::string::npos);
   MeshOptions zero = options;
   zero.surface.h = 0;
   EXPECT_NE(error_of([&] { mesh_part(cad, zero); }).find("must be > 0"), std::string::npos);

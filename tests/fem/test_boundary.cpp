@@ -1,6 +1,9 @@
 // Fixed-DOF selection: CAD faces, physical groups, coordinate conditions, components, errors.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "fem/boundary.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/structured_box.hpp"
@@ -58,6 +61,24 @@ TEST(Boundary, EmptyOrBadSelectionIsAnError) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("selects no node"), std::string::npos) << e.what();
   }
+}
+
+TEST(Boundary, CountsTheRigidMotionsAFixedSetDoesNotHold) {
+  // Counted by hand: what can still move rigidly when these DOFs are held.
+  const MixedMesh m = beam();
+  auto unheld = [&](std::vector<std::string> specs) {
+    return count_unheld_rigid_motions(m, select_fixed_dofs(m, specs));
+  };
+  EXPECT_EQ(unheld({"face:1"}), 0);    // clamped end
+  EXPECT_EQ(unheld({"face:1@x"}), 3);  // slides in y, z; turns about x
+  // In-plane components only: slides along x, and tilts about y and z axes lying in the face.
+  EXPECT_EQ(unheld({"face:1@yz"}), 3);
+  EXPECT_EQ(unheld({"x<1e-9&y<1e-9&z<1e-9"}), 3);  // one pinned corner: three rotations
+  EXPECT_EQ(unheld({"x<1e-9&z<1e-9"}), 1);         // pinned edge: the rotation about it
+  EXPECT_EQ(unheld({"x<1e-9&z<1e-9", "x>9.99&y<1e-9&z<1e-9@z"}), 0);
+  // FV52-like: u_z on the bottom edges leaves the in-plane motions (x, y, rotation about z).
+  EXPECT_EQ(unheld({"z<1e-9&x<1e-9@z", "z<1e-9&x>9.99@z", "z<1e-9&y<1e-9@z", "z<1e-9&y>1.99@z"}),
+            3);
 }
 
 TEST(Boundary, EliminationNumbersOnlyFreeDofsOfUsedNodes) {
