@@ -8,10 +8,13 @@ PACKAGES=(
   libeigen3-dev libspectra-dev libtet1.5-dev libcgal-dev libgmp-dev libmpfr-dev
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev libtbb-dev
-  libsuitesparse-dev libboost-dev libcli11-dev nlohmann-json3-dev
+  libsuitesparse-dev libopenblas0-pthread libboost-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   calculix-ccx python3-meshio gmsh gnuplot-nox xvfb xauth
 )
+
+# libopenblas0-pthread: an optimized BLAS behind libblas.so.3 (Debian's alternatives); CHOLMOD's
+# supernodal factorization is BLAS-3 and runs 5-7x faster than on the reference BLAS.
 
 missing=()
 for p in "${PACKAGES[@]}"; do
