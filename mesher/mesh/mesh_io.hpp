@@ -3,6 +3,9 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "mesher/mesh/mixed_mesh.hpp"
 
@@ -18,10 +21,21 @@ struct MshWriteOptions {
 void write_msh(const MixedMesh& mesh, const std::filesystem::path& path,
                const MshWriteOptions& options = {});
 
+// Extra arrays for a .vtu: field data (name, values) and point data with 3 components per node
+// (name, 3 * nodes values), e.g. mode shapes. `digits` > 0 rounds the point data to that many
+// significant digits (shapes need no more than 7; keeps large files small).
+struct VtuExtras {
+  std::vector<std::pair<std::string, std::vector<double>>> field_data;
+  std::vector<std::pair<std::string, std::vector<double>>> point_vectors;
+  int digits = 0;
+  bool nc_faces_file = true;  // also write <stem>_nc.vtu
+};
+
 // VTK XML unstructured grid. Cell data: kind (VTK type id), solid, quality (min scaled
 // Jacobian), nc (number of NC quad faces of the cell). Also writes <stem>_nc.vtu with the NC
-// quad faces as polygons, when there are any.
-void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path);
+// quad faces as polygons, when there are any (unless extras.nc_faces_file is false).
+void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path,
+               const VtuExtras& extras = {});
 
 // Abaqus/CalculiX input: *NODE (node i -> i+1), *ELEMENT (cell c -> c+1) as C3D8, C3D6, C3D4,
 // pyramids as C3D8 with the apex repeated; ELSETs EALL, E_HEX8, E_WEDGE6, E_PYRAMID5, E_TET4,

@@ -59,12 +59,30 @@ void data_array(std::string& s, const char* type, const char* name, int componen
 
 // One unstructured grid of `n` cells; `cell(i, ids)` returns the VTK type and fills VTK-ordered
 // ids.
+void put_rounded(std::string& s, double v, int digits) {
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, digits);
+  s.append(buf, r.ptr);
+  s.push_back(' ');
+}
+
 template <class CellFn, class DataFn>
-std::string vtu_text(const std::vector<Vec3>& nodes, std::size_t n, CellFn cell, DataFn cell_data) {
+std::string vtu_text(const std::vector<Vec3>& nodes, std::size_t n, CellFn cell, DataFn cell_data,
+                     const VtuExtras& extras = {}) {
   std::string s;
   s.reserve(64 * (nodes.size() + n));
   s += "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
        "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n";
+  if (!extras.field_data.empty()) {
+    s += "<FieldData>\n";
+    for (const auto& [name, values] : extras.field_data) {
+      s += "<DataArray type=\"Float64\" Name=\"" + name + "\" NumberOfTuples=\"" +
+           std::to_string(values.size()) + "\" format=\"ascii\">\n";
+      for (double v : values) put(s, v);
+      s += "\n</DataArray>\n";
+    }
+    s += "</FieldData>\n";
+  }
   s += "<Piece NumberOfPoints=\"" + std::to_string(nodes.size()) + "\" NumberOfCells=\"" +
        std::to_string(n) + "\">\n<Points>\n";
   data_array(s, "Float64", "Points", 3, nodes.size(), [&](std::size_t i) {
@@ -89,7 +107,24 @@ std::string vtu_text(const std::vector<Vec3>& nodes, std::size_t n, CellFn cell,
   data_array(s, "UInt8", "types", 1, n, [&](std::size_t i) { put(s, types[i]); });
   s += "</Cells>\n<CellData>\n";
   cell_data(s);
-  s += "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+  s += "</CellData>\n";
+  if (!extras.point_vectors.empty()) {
+    s += "<PointData Vectors=\"" + extras.point_vectors.front().first + "\">\n";
+    for (const auto& [name, values] : extras.point_vectors) {
+      if (values.size() != 3 * nodes.size())
+        throw Error("point data '" + name + "' does not match the mesh's nodes");
+      data_array(s, "Float64", name.c_str(), 3, nodes.size(), [&](std::size_t i) {
+        for (int a = 0; a < 3; ++a) {
+          if (extras.digits > 0)
+            put_rounded(s, values[3 * i + a], extras.digits);
+          else
+            put(s, values[3 * i + a]);
+        }
+      });
+    }
+    s += "</PointData>\n";
+  }
+  s += "</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
   return s;
 }
 
@@ -99,7 +134,7 @@ void write_text(const std::filesystem::path& path, const std::string& text) {
 
 }  // namespace
 
-void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path) {
+void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path, const VtuExtras& extras) {
   std::string text;
   if (mesh.num_cells() > 0) {
     std::vector<int> nc_count(mesh.num_cells(), 0);
@@ -121,7 +156,8 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path) {
           data_array(s, "Float64", "quality", 1, n,
                      [&](std::size_t c) { put(s, cell_min_scaled_jacobian(mesh, c)); });
           data_array(s, "Int32", "nc", 1, n, [&](std::size_t c) { put(s, nc_count[c]); });
-        });
+        },
+        extras);
   } else {
     // A surface mesh: its boundary faces, tagged by CAD face.
     text = vtu_text(
@@ -139,7 +175,7 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path) {
   write_text(path, text);
 
   // The NC quad faces on their own, so they can be shown over the cut mesh in ParaView.
-  if (mesh.nc_cell.empty()) return;
+  if (mesh.nc_cell.empty() || !extras.nc_faces_file) return;
   std::filesystem::path nc_path = path;
   nc_path.replace_filename(path.stem().string() + "_nc.vtu");
   const std::string nc_text = vtu_text(
