@@ -222,20 +222,19 @@ struct Reader {
     in.expect("$EndEntities");
   }
 
+  // The first line of $Nodes / $Elements in 4.1: blocks, count, min tag, max tag.
+  std::pair<std::uint64_t, std::uint64_t> section_header(const std::string& what) {
+    std::uint64_t v[4];
+    if (binary) in.skip_one_newline();
+    const char* names[4] = {"blocks", "count", "min tag", "max tag"};
+    for (int k = 0; k < 4; ++k)
+      v[k] = binary ? in.binary<std::uint64_t>()
+                    : static_cast<std::uint64_t>(in.integer((what + " " + names[k]).c_str()));
+    return {v[0], v[1]};
+  }
+
   void nodes41() {
-    std::uint64_t blocks, total;
-    if (binary) {
-      in.skip_one_newline();
-      blocks = in.binary<std::uint64_t>();
-      total = in.binary<std::uint64_t>();
-      in.binary<std::uint64_t>();
-      in.binary<std::uint64_t>();
-    } else {
-      blocks = in.integer("number of node blocks");
-      total = in.integer("number of nodes");
-      in.integer("min node tag");
-      in.integer("max node tag");
-    }
+    const auto [blocks, total] = section_header("node");
     if (total > (1ull << 31)) in.fail("too many nodes");
     mesh.nodes.reserve(total);
     node_index.reserve(total);
@@ -274,19 +273,7 @@ struct Reader {
   }
 
   void elements41() {
-    std::uint64_t blocks, total;
-    if (binary) {
-      in.skip_one_newline();
-      blocks = in.binary<std::uint64_t>();
-      total = in.binary<std::uint64_t>();
-      in.binary<std::uint64_t>();
-      in.binary<std::uint64_t>();
-    } else {
-      blocks = in.integer("number of element blocks");
-      total = in.integer("number of elements");
-      in.integer("min element tag");
-      in.integer("max element tag");
-    }
+    const auto [blocks, total] = section_header("element");
     std::uint64_t seen = 0;
     long tags[9];
     for (std::uint64_t b = 0; b < blocks; ++b) {
