@@ -6,11 +6,52 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numbers>
 #include <unordered_map>
 
 namespace hexfem {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using PmpMesh = CGAL::Surface_mesh<K::Point_3>;
+
+// The triangles `tris` of m as a CGAL surface mesh; false when some triangle cannot be added
+// (a non-manifold vertex or edge). face_of[i] = the bface index of CGAL face i.
+bool build_pmp_mesh(const MixedMesh& m, const std::vector<std::size_t>& tris, PmpMesh& mesh,
+                    std::vector<std::size_t>* face_of) {
+  std::unordered_map<int, PmpMesh::Vertex_index> vmap;
+  auto vertex = [&](int n) {
+    auto it = vmap.find(n);
+    if (it != vmap.end()) return it->second;
+    const Vec3& p = m.nodes[static_cast<std::size_t>(n)];
+    auto v = mesh.add_vertex(K::Point_3(p[0], p[1], p[2]));
+    vmap.emplace(n, v);
+    return v;
+  };
+  bool built = true;
+  for (std::size_t f : tris) {
+    const auto* t = m.bface(f);
+    if (mesh.add_face(vertex(t[0]), vertex(t[1]), vertex(t[2])) == PmpMesh::null_face())
+      built = false;
+    else if (face_of)
+      face_of->push_back(f);
+  }
+  return built;
+}
+
+std::vector<std::size_t> triangles_of_solid(const SurfaceMesh& s, std::size_t solid) {
+  const auto& faces = s.faces_of_solid[solid];
+  std::vector<std::size_t> tris;
+  for (std::size_t f = 0; f < s.mesh.num_bfaces(); ++f)
+    if (std::find(faces.begin(), faces.end(), s.mesh.bface_cad_face[f]) != faces.end())
+      tris.push_back(f);
+  return tris;
+}
+
+}  // namespace
 
 std::array<double, 3> triangle_angles(const Vec3& a, const Vec3& b, const Vec3& c) {
   auto ang = [](const Vec3& at, const Vec3& p, const Vec3& q) {
@@ -79,11 +120,7 @@ std::vector<SolidCheck> check_solids(const SurfaceMesh& s, bool self_intersectio
   for (std::size_t solid = 1; solid < s.faces_of_solid.size(); ++solid) {
     SolidCheck c;
     c.solid = static_cast<int>(solid);
-    const auto& faces = s.faces_of_solid[solid];
-    std::vector<std::size_t> tris;
-    for (std::size_t f = 0; f < m.num_bfaces(); ++f)
-      if (std::find(faces.begin(), faces.end(), m.bface_cad_face[f]) != faces.end())
-        tris.push_back(f);
+    const std::vector<std::size_t> tris = triangles_of_solid(s, solid);
     c.triangles = tris.size();
     // Directed edge counts: a closed, consistently oriented manifold uses each undirected edge
     // once in each direction.
@@ -113,32 +150,103 @@ std::vector<SolidCheck> check_solids(const SurfaceMesh& s, bool self_intersectio
     }
     if (self_intersection && c.open_edges == 0 && c.nonmanifold_edges == 0 &&
         c.misoriented_edges == 0) {
-      using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-      using Mesh = CGAL::Surface_mesh<K::Point_3>;
-      Mesh mesh;
-      std::unordered_map<int, Mesh::Vertex_index> vmap;
-      auto vertex = [&](int n) {
-        auto it = vmap.find(n);
-        if (it != vmap.end()) return it->second;
-        const Vec3& p = m.nodes[static_cast<std::size_t>(n)];
-        auto v = mesh.add_vertex(K::Point_3(p[0], p[1], p[2]));
-        vmap.emplace(n, v);
-        return v;
-      };
-      bool built = true;
-      for (std::size_t f : tris) {
-        const auto* t = m.bface(f);
-        if (mesh.add_face(vertex(t[0]), vertex(t[1]), vertex(t[2])) == Mesh::null_face())
-          built = false;
-      }
       // A vertex where two sheets touch (non-manifold vertex) cannot be built; CGAL would
       // not test such a mesh, so it counts as failing.
+      PmpMesh mesh;
+      const bool built = build_pmp_mesh(m, tris, mesh, nullptr);
       c.self_intersection_tested = true;
       c.self_intersects =
           !built ||
           CGAL::Polygon_mesh_processing::does_self_intersect<CGAL::Parallel_if_available_tag>(mesh);
     }
     out.push_back(c);
+  }
+  return out;
+}
+
+std::vector<std::string> surface_defects(const SurfaceMesh& s, std::size_t max_lines) {
+  const MixedMesh& m = s.mesh;
+  std::vector<std::string> out;
+  char line[300];
+  auto faces_of = [&](const std::vector<std::size_t>& fs) {
+    std::string list;
+    for (std::size_t f : fs) {
+      if (!list.empty()) list += ',';
+      list += std::to_string(m.bface_cad_face[f]);
+    }
+    return list;
+  };
+  auto xyz = [&](int n) { return m.nodes[static_cast<std::size_t>(n)]; };
+  for (std::size_t solid = 1; solid < s.faces_of_solid.size(); ++solid) {
+    const std::vector<std::size_t> tris = triangles_of_solid(s, solid);
+    std::map<std::pair<int, int>, std::vector<std::size_t>> edges;
+    std::map<std::pair<int, int>, std::array<int, 2>> dir;
+    for (std::size_t f : tris) {
+      const auto* t = m.bface(f);
+      for (int k = 0; k < 3; ++k) {
+        const int a = t[k], b = t[(k + 1) % 3];
+        edges[{std::min(a, b), std::max(a, b)}].push_back(f);
+        ++dir[{std::min(a, b), std::max(a, b)}][a < b ? 0 : 1];
+      }
+    }
+    std::size_t n_bad = 0;
+    for (const auto& [key, fs] : edges) {
+      const auto& d = dir[key];
+      const char* what = fs.size() == 1  ? "open"
+                         : fs.size() > 2 ? "non-manifold"
+                         : d[0] != 1     ? "misoriented"
+                                         : nullptr;
+      if (!what || n_bad++ >= max_lines) continue;
+      const Vec3 p = xyz(key.first), q = xyz(key.second);
+      std::snprintf(line, sizeof line,
+                    "solid %zu: %s edge (%.6g, %.6g, %.6g)-(%.6g, %.6g, %.6g), CAD faces %s", solid,
+                    what, p[0], p[1], p[2], q[0], q[1], q[2], faces_of(fs).c_str());
+      out.emplace_back(line);
+    }
+    if (n_bad != 0) continue;  // CGAL needs a manifold to look for intersections
+    PmpMesh mesh;
+    std::vector<std::size_t> face_of;
+    if (!build_pmp_mesh(m, tris, mesh, &face_of)) {
+      out.push_back("solid " + std::to_string(solid) + ": a non-manifold vertex");
+      continue;
+    }
+    std::vector<std::pair<PmpMesh::Face_index, PmpMesh::Face_index>> pairs;
+    CGAL::Polygon_mesh_processing::self_intersections<CGAL::Parallel_if_available_tag>(
+        mesh, std::back_inserter(pairs));
+    std::sort(pairs.begin(), pairs.end());
+    for (std::size_t i = 0; i < pairs.size() && i < max_lines; ++i) {
+      const std::size_t a = face_of[static_cast<std::size_t>(pairs[i].first)],
+                        b = face_of[static_cast<std::size_t>(pairs[i].second)];
+      const Vec3 p = xyz(m.bface(a)[0]);
+      std::snprintf(line, sizeof line,
+                    "solid %zu: triangles of CAD faces %d and %d intersect near (%.6g, %.6g, %.6g)",
+                    solid, m.bface_cad_face[a], m.bface_cad_face[b], p[0], p[1], p[2]);
+      out.emplace_back(line);
+    }
+    if (pairs.size() > max_lines)
+      out.push_back("solid " + std::to_string(solid) + ": " + std::to_string(pairs.size()) +
+                    " intersecting triangle pairs in all");
+  }
+  std::size_t n_small = 0;
+  for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
+    if (m.bface_is_quad(f)) continue;
+    const auto* t = m.bface(f);
+    const auto ang = triangle_angles(xyz(t[0]), xyz(t[1]), xyz(t[2]));
+    const double lo = std::min({ang[0], ang[1], ang[2]});
+    if (lo >= 5 || n_small++ >= max_lines) continue;
+    const Vec3 p = xyz(t[0]);
+    int on_edges = 0;
+    double len[3];
+    for (int k = 0; k < 3; ++k) {
+      on_edges += s.on_edge.size() == m.nodes.size() && s.on_edge[static_cast<std::size_t>(t[k])];
+      const Vec3 a = xyz(t[k]), b = xyz(t[(k + 1) % 3]);
+      len[k] = std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    }
+    std::snprintf(line, sizeof line,
+                  "CAD face %d: triangle with a %.3g deg angle at (%.6g, %.6g, %.6g), sides %.3g "
+                  "%.3g %.3g, %d of 3 corners on CAD edges",
+                  m.bface_cad_face[f], lo, p[0], p[1], p[2], len[0], len[1], len[2], on_edges);
+    out.emplace_back(line);
   }
   return out;
 }

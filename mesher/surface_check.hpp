@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "mesher/surface_mesh.hpp"
@@ -42,5 +43,10 @@ struct SolidCheck {
   }
 };
 std::vector<SolidCheck> check_solids(const SurfaceMesh& surface, bool self_intersection = true);
+
+// One line per defect, naming the CAD faces involved (for study programs and error reports):
+// edges used once or more than twice, misoriented edges, self-intersecting triangle pairs,
+// triangles with an angle below 5 degrees. At most max_lines lines per kind.
+std::vector<std::string> surface_defects(const SurfaceMesh& surface, std::size_t max_lines = 10);
 
 }  // namespace hexfem

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <map>
@@ -60,53 +61,58 @@ double face_estimate(const CadModel& cad, const SizeField& size, int f) {
   return cad.face_area(f) / (h * h);
 }
 
-std::size_t nedge_of(const EdgePoints& e) {
-  return e.xyz.size();
-}
-
-// Faces (index into the face list, sorted) whose triangles join two edge nodes by an edge that
-// is not one of the face's boundary segments while another face uses the same node pair too;
-// with the parametric midpoint of that diagonal in the face.
+// Diagonals to split: triangle edges with an edge node at one end at least, not boundary
+// segments of their face, where the node pair is used by more than two triangles over all faces
+// (two half cylinders of a small hole drawing the same chord, or a full cylinder with three points
+// per turn drawing one chord from both sides of its seam). Returns (face index, parametric
+// midpoint) sorted by face.
 std::vector<std::pair<std::size_t, Vec2>> shared_diagonals(
-    const std::vector<FaceBoundary>& boundary, const std::vector<FaceTriangles>& tris,
-    std::size_t nedge) {
+    const std::vector<FaceBoundary>& boundary, const std::vector<FacePoints>& pts,
+    const std::vector<FaceTriangles>& tris) {
   struct Use {
     std::size_t face;
     Vec2 mid;
-    bool diagonal;
   };
-  std::map<std::pair<int, int>, std::vector<Use>> uses;
+  using Key = std::pair<std::int64_t, std::int64_t>;
+  std::map<Key, std::vector<Use>> diagonals;  // one per (face, uv edge)
+  std::map<Key, int> triangles;               // triangles using the node pair
   for (std::size_t k = 0; k < boundary.size(); ++k) {
     const auto& b = boundary[k];
     const int nb = static_cast<int>(b.uv.size());
+    // Boundary segments by their local ids: a chord across a seam joins the same two nodes
+    // as the seam segment but is a diagonal of the face.
     std::set<std::pair<int, int>> segs;
-    for (const auto& sg : b.segments) {
-      const int a = b.node[static_cast<std::size_t>(sg[0])],
-                c = b.node[static_cast<std::size_t>(sg[1])];
-      segs.insert({std::min(a, c), std::max(a, c)});
-    }
-    std::set<std::pair<int, int>> seen;
+    for (const auto& sg : b.segments) segs.insert({std::min(sg[0], sg[1]), std::max(sg[0], sg[1])});
+    // Edge nodes by node id; interior points are unique to their face.
+    auto node_of = [&](int i) -> std::int64_t {
+      return i < nb ? b.node[static_cast<std::size_t>(i)]
+                    : -1 - static_cast<std::int64_t>((k << 32) | static_cast<std::size_t>(i));
+    };
+    std::set<std::pair<int, int>> seen;  // local uv edges already recorded
     for (const auto& t : tris[k].triangles) {
       for (int e = 0; e < 3; ++e) {
         const int i = t[static_cast<std::size_t>(e)], j = t[static_cast<std::size_t>((e + 1) % 3)];
-        if (i >= nb || j >= nb) continue;
-        const int a = b.node[static_cast<std::size_t>(i)], c = b.node[static_cast<std::size_t>(j)];
-        if (static_cast<std::size_t>(std::max(a, c)) >= nedge) continue;
-        const std::pair<int, int> key{std::min(a, c), std::max(a, c)};
-        if (!seen.insert(key).second) continue;
-        const Vec2& p = b.uv[static_cast<std::size_t>(i)];
-        const Vec2& q = b.uv[static_cast<std::size_t>(j)];
-        uses[key].push_back({k, {0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])}, segs.count(key) == 0});
+        if (i >= nb && j >= nb) continue;  // two interior points: used by this face only
+        const std::int64_t a = node_of(i), c = node_of(j);
+        const Key key{std::min(a, c), std::max(a, c)};
+        ++triangles[key];
+        const std::pair<int, int> local{std::min(i, j), std::max(i, j)};
+        if (segs.count(local) || !seen.insert(local).second) continue;
+        const Vec2& p = i < nb ? b.uv[static_cast<std::size_t>(i)]
+                               : pts[k].uv[static_cast<std::size_t>(i - nb)];
+        const Vec2& q = j < nb ? b.uv[static_cast<std::size_t>(j)]
+                               : pts[k].uv[static_cast<std::size_t>(j - nb)];
+        diagonals[key].push_back({k, {0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1])}});
       }
     }
   }
   std::vector<std::pair<std::size_t, Vec2>> out;
-  for (const auto& [key, list] : uses) {
-    if (list.size() < 2) continue;
-    for (const Use& u : list)
-      if (u.diagonal) out.emplace_back(u.face, u.mid);
+  for (const auto& [key, list] : diagonals) {
+    if (triangles[key] <= 2) continue;
+    for (const Use& u : list) out.emplace_back(u.face, u.mid);
   }
-  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
   return out;
 }
 
@@ -263,13 +269,14 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
   std::vector<FaceTriangles> tris(static_cast<std::size_t>(nf));
   parallel_for(nf, [&](int i) {
     const auto k = static_cast<std::size_t>(i);
-    if (!collapsed[k]) tris[k] = triangulate_face(faces[k], boundary[k], pts[k], edges, field[k]->scale());
+    if (!collapsed[k])
+      tris[k] = triangulate_face(faces[k], boundary[k], pts[k], edges, field[k]->scale());
   });
   // A face with no interior point near two of its edges may join them by a diagonal that a
   // neighbouring face sharing both edges draws too (two half cylinders of a small hole): the
   // edge would be used four times. Such faces get a point in the middle of the diagonal.
   for (int round = 0; round < 4; ++round) {
-    const auto split = shared_diagonals(boundary, tris, nedge_of(edges));
+    const auto split = shared_diagonals(boundary, pts, tris);
     if (split.empty()) break;
     std::vector<int> redo;
     for (const auto& [k, uv] : split) {
@@ -298,7 +305,8 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
     const auto& b = boundary[static_cast<std::size_t>(i)];
     for (std::size_t p = 0; p < b.uv.size(); ++p) {
       const auto n = static_cast<std::size_t>(b.node[p]);
-      if (owner_face[n] < 0 && !collapsed[static_cast<std::size_t>(i)]) owner_face[n] = i, owner_uv[n] = b.uv[p];
+      if (owner_face[n] < 0 && !collapsed[static_cast<std::size_t>(i)])
+        owner_face[n] = i, owner_uv[n] = b.uv[p];
     }
   }
   for (int i = 0; i < nf; ++i) {
