@@ -24,6 +24,7 @@ struct ConvergeArgs {
   std::string output;
   bool json = false;
   int curvature = 0;
+  std::string hex8 = "incompatible";
 };
 
 int run(const ConvergeArgs& a) {
@@ -45,6 +46,7 @@ int run(const ConvergeArgs& a) {
   modal.material = material_by_name(a.material);
   modal.fix = a.fix;
   modal.num_modes = a.modes;
+  modal.incompatible_hex = incompatible_hex_from_option(a.hex8);
 
   for (std::size_t i = 0; i < a.sizes.size(); ++i) {
     MeshOptions mesh;
@@ -73,6 +75,7 @@ int run(const ConvergeArgs& a) {
     nlohmann::json j;
     j["part"] = a.file;
     j["material"] = a.material;
+    j["hex8"] = a.hex8;
     j["fix"] = a.fix;
     j["reference_hz"] = study.reference;
     j["rows"] = nlohmann::json::array();
@@ -98,8 +101,8 @@ int run(const ConvergeArgs& a) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
-  std::printf("%s: material '%s', fixed %s; lengths in mm, frequencies in Hz\n", study.part.c_str(),
-              a.material.c_str(), a.fix.front().c_str());
+  std::printf("%s: material '%s', fixed %s, hex8 %s; lengths in mm, frequencies in Hz\n",
+              study.part.c_str(), a.material.c_str(), a.fix.front().c_str(), a.hex8.c_str());
   std::printf("%s", convergence_text(study).c_str());
   for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
   return 0;
@@ -119,6 +122,7 @@ RegisterCommand reg{
        sub.add_option("--reference", a->reference, "JSON with \"reference_hz\": [...]");
        sub.add_option("-o,--output", a->output, "stem of the CSV/Markdown/PNG files");
        sub.add_option("--curvature", a->curvature, "curvature bound: N elements per 2*pi");
+       sub.add_option("--hex8", a->hex8, "hex formulation: incompatible (default) or full");
        sub.add_flag("--json", a->json, "print the study as JSON");
        return [a] { return run(*a); };
      }}};

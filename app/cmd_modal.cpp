@@ -97,14 +97,12 @@ int run(const Args& a) {
   validate(mat);
   if (a.modes < 1) throw Error("--modes must be at least 1 (got " + std::to_string(a.modes) + ")");
 
-  if (a.hex8 != "incompatible" && a.hex8 != "full")
-    throw Error("--hex8 must be incompatible or full (got '" + a.hex8 + "')");
   ModalOptions opt;
   opt.material = mat;
   opt.fix = a.fix;
   opt.num_modes = a.modes;
   opt.length_scale = units.scale;
-  opt.incompatible_hex = a.hex8 == "incompatible";
+  opt.incompatible_hex = incompatible_hex_from_option(a.hex8);
 
   // A CAD part is meshed first (lengths in mm) and solved in the same process.
   const bool cad_input = is_cad_file(a.mesh);

@@ -87,4 +87,10 @@ PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_opti
   return r;
 }
 
+bool incompatible_hex_from_option(const std::string& value) {
+  if (value != "incompatible" && value != "full")
+    throw Error("--hex8 must be incompatible or full (got '" + value + "')");
+  return value == "incompatible";
+}
+
 }  // namespace hexfem

@@ -33,4 +33,8 @@ void check_fixed_faces_exist(const CadModel& cad, const std::vector<std::string>
 PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_options,
                                ModalOptions modal_options);
 
+// The --hex8 option: "incompatible" (Wilson-Taylor bubbles, accurate in bending; the default)
+// -> true, "full" (2x2x2, = CalculiX C3D8) -> false; anything else is an error.
+bool incompatible_hex_from_option(const std::string& value);
+
 }  // namespace hexfem
