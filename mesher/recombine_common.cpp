@@ -426,9 +426,16 @@ bool quad_shared(const std::vector<QuadKey>& keys, const QuadKey& k) {
   return range.second - range.first >= 2;
 }
 
+double tet_quality(const TetTopology& topo, std::int32_t t) {
+  Vec3 x[4];
+  for (int i = 0; i < 4; ++i) x[i] = topo.mesh().nodes[topo.mesh().tets[t][i]];
+  return min_scaled_jacobian(CellKind::Tet4, x);
+}
+
 std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
                                               const std::vector<Candidate>& elements,
-                                              std::vector<char>& used, SliverPolicy policy) {
+                                              std::vector<char>& used, SliverPolicy policy,
+                                              double flat_sj) {
   const std::vector<QuadKey> quads = sorted_quad_keys(elements);
   std::vector<std::int32_t> out;
   for (const Candidate& e : elements) {
@@ -441,11 +448,14 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
       for (auto it = topo.star_begin(k[0]); it != topo.star_end(k[0]); ++it) {
         const auto& T = topo.mesh().tets[*it];
         if (used[*it] || face_sliver_of(e.kind, e.nodes.data(), T) != f) continue;
-        if (policy == SliverPolicy::kSharedFaces && !shared) continue;
-        if (policy == SliverPolicy::kInvertedOnly) {
-          Vec3 x[4];
-          for (int i = 0; i < 4; ++i) x[i] = topo.mesh().nodes[T[i]];
-          if (min_scaled_jacobian(CellKind::Tet4, x) > 0) continue;
+        if (policy == SliverPolicy::kSharedOrBoundary) {
+          int on_surface = 0;
+          for (int skip = 0; skip < 4; ++skip)
+            on_surface +=
+                topo.surface_triangle(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]) >= 0;
+          if (!shared && on_surface < 2) continue;
+        } else if (!(tet_quality(topo, *it) < flat_sj)) {
+          continue;
         }
         used[*it] = 1;
         out.push_back(*it);

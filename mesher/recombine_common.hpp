@@ -150,16 +150,23 @@ class ConformityIndex {
 // Min scaled Jacobian of corner o with edges to a, b, c (no kind scaling).
 double corner_jacobian(const Vec3& o, const Vec3& a, const Vec3& b, const Vec3& c);
 
-// Free tets whose four vertices are the corners of a quad face of one of `elements`: flat
-// slivers between the face's two diagonals, which fills_element leaves out. Between two
-// elements sharing the face (kSharedFaces) such a sliver is covered by both bilinear faces and
-// belongs to them; against tets it stays a tet (it fills half the gap the bilinear face opens)
-// unless its Jacobian is not positive in floating point (kInvertedOnly). Absorbed slivers are
-// marked used and listed.
-enum class SliverPolicy { kSharedFaces, kInvertedOnly };
+// Free tets whose four vertices are the corners of a quad face of one of `elements`: slivers
+// between the face's two diagonals, which fills_element leaves out. Such a sliver belongs to the
+// element(s) whose bilinear face cuts through it:
+//  - kSharedOrBoundary: the face is shared by two elements, or the sliver's other two faces are
+//    surface triangles (the element's tets split the face along one diagonal, the surface along
+//    the other): the element's quad face is then the boundary face.
+//  - kFlat: any other sliver on a quad face whose min scaled Jacobian is below flat_sj (a flat
+//    tet against tets: the bilinear face passes through it; left alone it is a zero-volume cell).
+// Absorbed slivers are marked used and listed.
+enum class SliverPolicy { kSharedOrBoundary, kFlat };
 std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
                                               const std::vector<Candidate>& elements,
-                                              std::vector<char>& used, SliverPolicy policy);
+                                              std::vector<char>& used, SliverPolicy policy,
+                                              double flat_sj = 0);
+
+// Min scaled Jacobian of tet t (quality.hpp's scaling: 1 for the regular tet).
+double tet_quality(const TetTopology& topo, std::int32_t t);
 
 // Sorted keys (sorted corners) of every quad face of `elements`; a key listed twice is a face
 // two elements share.

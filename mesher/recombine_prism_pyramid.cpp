@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/quality.hpp"
@@ -124,7 +125,7 @@ std::vector<Candidate> enumerate_prisms(const TetTopology& topo, const std::vect
 
 std::vector<Candidate> enumerate_pyramids(const TetTopology& topo,
                                           const std::vector<Candidate>& elements,
-                                          const std::vector<char>& used) {
+                                          const std::vector<char>& used, double min_quality) {
   // Quad faces used by two elements are conformal already.
   const std::vector<QuadKey> quads = sorted_quad_keys(elements);
   std::vector<Candidate> out;
@@ -175,7 +176,7 @@ std::vector<Candidate> enumerate_pyramids(const TetTopology& topo,
       Vec3 x[5];
       for (int i = 0; i < 5; ++i) x[i] = X[c.nodes[i]];
       const double qual = min_scaled_jacobian(CellKind::Pyramid5, x);
-      if (!(qual > 0)) continue;
+      if (!(qual > 0 && qual >= min_quality)) continue;
       c.quality = static_cast<float>(qual);
       out.push_back(c);
     }
@@ -196,6 +197,90 @@ std::vector<Candidate> place_pyramids(std::vector<Candidate>& cands, std::vector
     kept.push_back(c);
   }
   return kept;
+}
+
+std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
+                                                   const std::vector<Candidate>& elements,
+                                                   std::vector<char>& used, double flat_sj,
+                                                   double min_pyramid) {
+  const TetMesh& m = topo.mesh();
+  // Three corners of each quad face -> its fourth corner.
+  std::unordered_map<TriKey, std::int32_t, TriKeyHash> quad_of_triple;
+  auto add_quad = [&](const std::array<std::int32_t, 4>& q) {
+    for (int skip = 0; skip < 4; ++skip)
+      quad_of_triple.emplace(tri_key(q[(skip + 1) % 4], q[(skip + 2) % 4], q[(skip + 3) % 4]),
+                             q[skip]);
+  };
+  auto clashes = [&](const std::array<std::int32_t, 4>& q) {
+    for (int skip = 0; skip < 4; ++skip) {
+      auto it =
+          quad_of_triple.find(tri_key(q[(skip + 1) % 4], q[(skip + 2) % 4], q[(skip + 3) % 4]));
+      if (it != quad_of_triple.end() && it->second != q[skip]) return true;
+    }
+    return false;
+  };
+  for (const Candidate& e : elements) {
+    const CellFaces cf = faces_of(e.kind);
+    for (int f = 0; f < cf.count; ++f)
+      if (cf.face[f].n == 4)
+        add_quad({e.nodes[cf.face[f].v[0]], e.nodes[cf.face[f].v[1]], e.nodes[cf.face[f].v[2]],
+                  e.nodes[cf.face[f].v[3]]});
+  }
+  // The tet other than `skip` with face (a, b, c), or -1 (none: a surface triangle).
+  auto across = [&](std::int32_t skip, std::int32_t a, std::int32_t b, std::int32_t c) {
+    for (auto it = topo.star_begin(a); it != topo.star_end(a); ++it) {
+      if (*it == skip) continue;
+      const auto& T = m.tets[*it];
+      const bool hb = T[0] == b || T[1] == b || T[2] == b || T[3] == b;
+      const bool hc = T[0] == c || T[1] == c || T[2] == c || T[3] == c;
+      if (hb && hc) return *it;
+    }
+    return -1;
+  };
+  std::vector<Candidate> out;
+  for (std::size_t s = 0; s < m.tets.size(); ++s) {
+    const auto t = static_cast<std::int32_t>(s);
+    if (used[t] || !(tet_quality(topo, t) < flat_sj)) continue;
+    const auto& T = m.tets[t];
+    Candidate best;
+    best.quality = -1;
+    // The quad's diagonals (T[0], T[i]) and the other two; then either diagonal's side.
+    for (int i = 1; i < 4; ++i) {
+      const std::int32_t a = T[0], c = T[i];
+      std::int32_t bd[2], n = 0;
+      for (int k = 1; k < 4; ++k)
+        if (k != i) bd[n++] = T[k];
+      const std::array<std::int32_t, 4> quad{a, bd[0], c, bd[1]};
+      if (clashes(quad)) continue;
+      for (int side = 0; side < 2; ++side) {
+        // Triangles of the quad split along the diagonal (q0, q2) of this side.
+        const std::int32_t q0 = quad[side], q1 = quad[side + 1], q2 = quad[side + 2],
+                           q3 = quad[(side + 3) % 4];
+        const std::int32_t u = across(t, q0, q1, q2), w = across(t, q0, q2, q3);
+        if (u < 0 || w < 0 || u == w || used[u] || used[w]) continue;
+        if (m.tet_solid[u] != m.tet_solid[t] || m.tet_solid[w] != m.tet_solid[t]) continue;
+        const std::int32_t apex = apex_of(topo, u, q0, q1, q2);
+        if (apex != apex_of(topo, w, q0, q2, q3)) continue;
+        for (int dir = 0; dir < 2; ++dir) {
+          Candidate c;
+          c.kind = CellKind::Pyramid5;
+          c.nodes = {
+              quad[0], dir ? quad[3] : quad[1], quad[2], dir ? quad[1] : quad[3], apex, -1, -1, -1};
+          c.tets = {std::min(u, w), std::max(u, w), t, -1, -1, -1, -1};
+          Vec3 x[5];
+          for (int k = 0; k < 5; ++k) x[k] = m.nodes[c.nodes[k]];
+          c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Pyramid5, x));
+          if (c.quality >= min_pyramid && c.quality > best.quality) best = c;
+        }
+      }
+    }
+    if (best.quality < 0) continue;
+    add_quad({best.nodes[0], best.nodes[1], best.nodes[2], best.nodes[3]});
+    for (std::int32_t k : best.tets)
+      if (k >= 0) used[k] = 1;
+    out.push_back(best);
+  }
+  return out;
 }
 
 }  // namespace hexfem

@@ -20,12 +20,25 @@ std::vector<Candidate> enumerate_prisms(const TetTopology& topo, const std::vect
                                         const PrismOptions& options);
 
 // Candidate pyramids on the unshared interior quad faces of `elements` (hexes and prisms),
-// made of two free tets with a common apex and a positive Jacobian at every base corner.
+// made of two free tets with a common apex and a min scaled Jacobian of at least min_quality
+// (a pyramid whose apex lies in the plane of two base edges is flat at that corner).
 std::vector<Candidate> enumerate_pyramids(const TetTopology& topo,
                                           const std::vector<Candidate>& elements,
-                                          const std::vector<char>& used);
+                                          const std::vector<char>& used, double min_quality);
 
 // Keeps pyramids best first while both tets are free; marks them used.
 std::vector<Candidate> place_pyramids(std::vector<Candidate>& cands, std::vector<char>& used);
+
+// A free tet with min scaled Jacobian below flat_sj that lies on no element's quad face (the
+// sliver between two diagonal splits of a near-planar quad (a, b, c, d) among tets) is merged
+// with the two free tets across one diagonal's triangles when they share their fourth vertex:
+// a pyramid with that apex over the quad, if its min scaled Jacobian reaches min_pyramid and
+// its base shares no three corners with a different quad face of `elements` (or of a pyramid
+// made before: that face would be neither matched nor split into triangles).
+// Best pyramid first, slivers in index order; marks the tets used and returns the pyramids.
+std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
+                                                   const std::vector<Candidate>& elements,
+                                                   std::vector<char>& used, double flat_sj,
+                                                   double min_pyramid);
 
 }  // namespace hexfem

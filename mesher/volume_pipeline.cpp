@@ -20,6 +20,7 @@
 #include "mesher/solid_locator.hpp"
 #include "mesher/tetrahedralize.hpp"
 #include "mesher/volume_points.hpp"
+#include "mesher/volume_slivers.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -71,7 +72,8 @@ class StageTimer {
 // Cells, boundary faces (two surface triangles under a hex/prism quad become that quad, with the
 // CAD face they share) and NC flags.
 MixedMesh assemble(const SurfaceMesh& surface, const TetTopology& topo,
-                   const std::vector<Candidate>& elements, const std::vector<char>& used) {
+                   const std::vector<Candidate>& elements, const std::vector<char>& used,
+                   const SliverFlips& flips) {
   const TetMesh& tm = topo.mesh();
   const MixedMesh& sm = surface.mesh;
   MixedMesh mesh;
@@ -81,23 +83,30 @@ MixedMesh assemble(const SurfaceMesh& surface, const TetTopology& topo,
     mesh.add_cell(e.kind, e.nodes.data(), tm.tet_solid[e.tets[0]]);
   for (std::size_t t = 0; t < tm.tets.size(); ++t)
     if (!used[t]) mesh.add_cell(CellKind::Tet4, tm.tets[t].data(), tm.tet_solid[t]);
+  for (std::size_t t = 0; t < flips.added.size(); ++t)
+    mesh.add_cell(CellKind::Tet4, flips.added[t].data(), flips.added_solid[t]);
   // Surface triangle -> the boundary quad (element, local face) covering it.
   std::vector<std::array<std::int32_t, 2>> quad_of(sm.num_bfaces(), {-1, -1});
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const Candidate& e = elements[i];
-    if (e.kind == CellKind::Pyramid5) continue;
     const CellFaces cf = faces_of(e.kind);
     for (int f = 0; f < cf.count; ++f) {
       const LocalFace& lf = cf.face[f];
       if (lf.n != 4) continue;
       std::int32_t q[4];
       for (int k = 0; k < 4; ++k) q[k] = e.nodes[lf.v[k]];
-      const bool d02 = quad_diagonal(topo, e, f) == 0;
-      const std::int32_t t1 =
-          d02 ? topo.surface_triangle(q[0], q[1], q[2]) : topo.surface_triangle(q[0], q[1], q[3]);
-      const std::int32_t t2 =
-          d02 ? topo.surface_triangle(q[0], q[2], q[3]) : topo.surface_triangle(q[1], q[2], q[3]);
-      if (t1 < 0 || t2 < 0) continue;
+      // The surface triangles under the face: split like the element's tets, or along the other
+      // diagonal when a flat sliver between the two was absorbed into the element.
+      std::int32_t t1 = -1, t2 = -1;
+      for (int d : {quad_diagonal(topo, e, f), 1 - quad_diagonal(topo, e, f)}) {
+        t1 = d == 0 ? topo.surface_triangle(q[0], q[1], q[2])
+                    : topo.surface_triangle(q[0], q[1], q[3]);
+        t2 = d == 0 ? topo.surface_triangle(q[0], q[2], q[3])
+                    : topo.surface_triangle(q[1], q[2], q[3]);
+        if (t1 >= 0 && t2 >= 0) break;
+      }
+      // A face over two (coplanar) CAD faces stays two triangles, each with its own CAD face.
+      if (t1 < 0 || t2 < 0 || topo.cad_face(t1) != topo.cad_face(t2)) continue;
       quad_of[t1] = quad_of[t2] = {static_cast<std::int32_t>(i), f};
     }
   }
@@ -118,6 +127,24 @@ MixedMesh assemble(const SurfaceMesh& surface, const TetTopology& topo,
   }
   flag_nonconformal_quads(mesh);
   return mesh;
+}
+
+// Every TetGen tet must end up in exactly one place: an element, an absorbed sliver, or a tet
+// of its own (a free one). Anything else is a bug that would overlap or drop volume.
+void check_each_tet_used_once(std::size_t num_tets, const std::vector<Candidate>& elements,
+                              const std::vector<std::int32_t>& absorbed,
+                              const std::vector<char>& used) {
+  std::vector<std::uint8_t> count(num_tets, 0);
+  for (const Candidate& e : elements)
+    for (std::int32_t t : e.tets)
+      if (t >= 0) ++count[t];
+  for (std::int32_t t : absorbed) ++count[t];
+  for (std::size_t t = 0; t < num_tets; ++t) {
+    if (!used[t]) ++count[t];
+    if (count[t] != 1)
+      throw Error("volume mesher: tet " + std::to_string(t) + " is used " +
+                  std::to_string(count[t]) + " times (internal error)");
+  }
 }
 
 }  // namespace
@@ -178,22 +205,45 @@ MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options,
     const auto kept = place_greedily(topo, pc, used, index, pr.fill);
     elements.insert(elements.end(), kept.begin(), kept.end());
   }
-  r.absorbed_slivers = absorb_face_slivers(topo, elements, used, SliverPolicy::kSharedFaces).size();
+  std::vector<std::int32_t> absorbed =
+      absorb_face_slivers(topo, elements, used, SliverPolicy::kSharedOrBoundary);
   timer.stage("prisms");
 
   if (!options.no_pyramids) {
-    std::vector<Candidate> yc = enumerate_pyramids(topo, elements, used);
+    std::vector<Candidate> yc =
+        enumerate_pyramids(topo, elements, used, options.min_pyramid_quality);
     r.pyramid_candidates = yc.size();
     const auto kept = place_pyramids(yc, used);
     elements.insert(elements.end(), kept.begin(), kept.end());
   }
-  r.absorbed_slivers +=
-      absorb_face_slivers(topo, elements, used, SliverPolicy::kInvertedOnly).size();
+  {
+    const auto flat =
+        absorb_face_slivers(topo, elements, used, SliverPolicy::kFlat, options.flat_tet_quality);
+    absorbed.insert(absorbed.end(), flat.begin(), flat.end());
+  }
+  r.absorbed_slivers = absorbed.size();
+  if (!options.no_pyramids) {
+    const auto kept = merge_slivers_into_pyramids(topo, elements, used, options.flat_tet_quality,
+                                                  options.min_pyramid_quality);
+    elements.insert(elements.end(), kept.begin(), kept.end());
+  }
   timer.stage("pyramids");
+
+  const SliverFlips flips = flip_slivers(topo, used, options.flat_tet_quality);
+  r.sliver_flips = flips.flips;
+  r.flipped_tets = flips.removed.size();
+  r.tets_from_flips = flips.added.size();
+  r.slivers_left = flips.slivers_left;
+  timer.stage("sliver flips");
 
   for (const Candidate& e : elements)
     for (std::int32_t t : e.tets) r.tets_in_elements += t >= 0;
-  MixedMesh mesh = assemble(surface, topo, elements, used);
+  {
+    std::vector<std::int32_t> gone = absorbed;
+    gone.insert(gone.end(), flips.removed.begin(), flips.removed.end());
+    check_each_tet_used_once(tets.tets.size(), elements, gone, used);
+  }
+  MixedMesh mesh = assemble(surface, topo, elements, used, flips);
   timer.stage("assembly + NC");
 
   for (std::size_t t = 0; t < tets.tets.size(); ++t) r.volume_tets += topo.tet_volume(t);
@@ -229,6 +279,10 @@ nlohmann::json volume_report_json(const VolumeReport& r) {
   j["tets_from_tetgen"] = r.tets;
   j["absorbed_slivers"] = r.absorbed_slivers;
   j["tets_in_elements"] = r.tets_in_elements;
+  j["sliver_flips"] = r.sliver_flips;
+  j["flipped_tets"] = r.flipped_tets;
+  j["tets_from_flips"] = r.tets_from_flips;
+  j["slivers_left"] = r.slivers_left;
   nlohmann::json cells;
   for (int k = 0; k < kNumCellKinds; ++k) cells[kind_name(static_cast<CellKind>(k))] = r.cells[k];
   j["cells"] = cells;
@@ -270,6 +324,8 @@ std::string volume_report_text(const VolumeReport& r) {
   line("vertices        %zu (surface %zu, interior %zu, steiner %zu)", r.vertices,
        r.surface_vertices, r.interior_points, r.steiner_points);
   line("tets (tetgen)   %zu (%zu flat slivers on quad faces absorbed)", r.tets, r.absorbed_slivers);
+  line("sliver flips    %zu (%zu tets -> %zu), %zu slivers left", r.sliver_flips, r.flipped_tets,
+       r.tets_from_flips, r.slivers_left);
   line("elements        %zu: hex %zu, prism %zu, pyramid %zu, tet %zu", r.num_cells,
        r.cells[static_cast<int>(CellKind::Hex8)], r.cells[static_cast<int>(CellKind::Wedge6)],
        r.cells[static_cast<int>(CellKind::Pyramid5)], r.cells[static_cast<int>(CellKind::Tet4)]);

@@ -23,6 +23,10 @@ struct VolumeOptions {
   double max_volume_gap = 0.02;  // an element may differ from its tets' volume by this fraction
   double max_face_twist = 0.2;   // and its quad faces may be this far from planar (FillRules)
   double jitter = 0;             // interior points moved by up to jitter*h (volume_points.hpp)
+  // A free tet on an element's quad face with a lower min scaled Jacobian is merged into that
+  // element (a sliver between the face's two diagonals).
+  double flat_tet_quality = 0.02;
+  double min_pyramid_quality = 0.05;  // pyramids with a lower min scaled Jacobian stay two tets
 };
 
 struct VolumeReport {
@@ -36,6 +40,9 @@ struct VolumeReport {
   std::size_t tets = 0;              // TetGen's tets (inside the solids)
   std::size_t absorbed_slivers = 0;  // flat tets on a hex/prism quad face, merged into it
   std::size_t tets_in_elements = 0;  // tets merged into hexes, prisms and pyramids
+  // Edge-removal flips of the slivers left (volume_slivers.hpp): TetGen tets replaced and the
+  // tets replacing them; slivers_left: free tets still below flat_tet_quality.
+  std::size_t sliver_flips = 0, flipped_tets = 0, tets_from_flips = 0, slivers_left = 0;
   std::array<std::size_t, kNumCellKinds> cells{};  // by CellKind
   std::size_t num_cells = 0;
   std::size_t hex_candidates = 0, prism_candidates = 0, pyramid_candidates = 0;

@@ -1,0 +1,224 @@
+#include "mesher/volume_slivers.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <unordered_map>
+
+#include "mesher/mesh/quality.hpp"
+
+namespace hexfem {
+
+namespace {
+
+using Tet = std::array<std::int32_t, 4>;
+constexpr int kMaxRing = 7;  // shells of up to 7 tets: 42 triangulations at most
+
+double orient(const std::vector<Vec3>& X, std::int32_t a, std::int32_t b, std::int32_t c,
+              std::int32_t d) {
+  const Vec3 &pa = X[a], &pb = X[b], &pc = X[c], &pd = X[d];
+  const double u[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+  const double v[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
+  const double w[3] = {pd[0] - pa[0], pd[1] - pa[1], pd[2] - pa[2]};
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+         u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+// The free tets as a mutable set: tets by id (TetGen's ids, then added ones), alive flags and
+// the alive tets on each face.
+class FreeTets {
+ public:
+  FreeTets(const TetTopology& topo, const std::vector<char>& used)
+      : X_(topo.mesh().nodes), tets_(topo.mesh().tets), solid_(topo.mesh().tet_solid) {
+    alive_.resize(tets_.size());
+    quality_.resize(tets_.size());
+    for (std::size_t t = 0; t < tets_.size(); ++t) {
+      alive_[t] = !used[t];
+      if (alive_[t]) add_faces(static_cast<std::int32_t>(t));
+    }
+  }
+  std::size_t size() const { return tets_.size(); }
+  bool alive(std::int32_t t) const { return alive_[t]; }
+  const Tet& tet(std::int32_t t) const { return tets_[t]; }
+  std::int32_t solid(std::int32_t t) const { return solid_[t]; }
+  const std::vector<Vec3>& X() const { return X_; }
+  double quality(std::int32_t t) {
+    if (quality_[t] == 0) {
+      Vec3 x[4];
+      for (int i = 0; i < 4; ++i) x[i] = X_[tets_[t][i]];
+      // Stored +2 so that 0 means "not computed" (qualities are in [-1, 1]).
+      quality_[t] = 2 + min_scaled_jacobian(CellKind::Tet4, x);
+    }
+    return quality_[t] - 2;
+  }
+  // The alive tet other than `self` with face (a, b, c), or -1.
+  std::int32_t across(std::int32_t self, std::int32_t a, std::int32_t b, std::int32_t c) const {
+    auto it = faces_.find(tri_key(a, b, c));
+    if (it == faces_.end()) return -1;
+    for (std::int32_t t : it->second)
+      if (t >= 0 && t != self) return t;
+    return -1;
+  }
+  void kill(std::int32_t t) {
+    alive_[t] = 0;
+    for (int skip = 0; skip < 4; ++skip) {
+      auto& slot = faces_[face(t, skip)];
+      for (std::int32_t& s : slot)
+        if (s == t) s = -1;
+    }
+  }
+  std::int32_t add(const Tet& T, std::int32_t solid) {
+    const auto id = static_cast<std::int32_t>(tets_.size());
+    tets_.push_back(T);
+    solid_.push_back(solid);
+    alive_.push_back(1);
+    quality_.push_back(0);
+    add_faces(id);
+    return id;
+  }
+
+ private:
+  TriKey face(std::int32_t t, int skip) const {
+    const Tet& T = tets_[t];
+    return tri_key(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]);
+  }
+  void add_faces(std::int32_t t) {
+    for (int skip = 0; skip < 4; ++skip) {
+      auto it = faces_.try_emplace(face(t, skip), std::array<std::int32_t, 2>{-1, -1}).first;
+      auto& slot = it->second;
+      (slot[0] < 0 ? slot[0] : slot[1]) = t;
+    }
+  }
+  const std::vector<Vec3>& X_;
+  std::vector<Tet> tets_;
+  std::vector<std::int32_t> solid_;
+  std::vector<char> alive_;
+  std::vector<double> quality_;
+  std::unordered_map<TriKey, std::array<std::int32_t, 2>, TriKeyHash> faces_;
+};
+
+// An edge removal: the shell's tets and the tets replacing them, with their min quality.
+struct Flip {
+  double old_min = 2, new_min = -2;
+  std::vector<std::int32_t> shell;
+  std::vector<Tet> added;
+};
+
+// Best edge removal of edge (p, q) of free tet t0, or new_min = -2 when there is none.
+Flip remove_edge(FreeTets& ft, std::int32_t t0, std::int32_t p, std::int32_t q) {
+  Flip f;
+  const Tet& T = ft.tet(t0);
+  std::int32_t r[2], n = 0;
+  for (std::int32_t w : T)
+    if (w != p && w != q) r[n++] = w;
+  // Walk around the edge across faces (p, q, ring.back()) until the shell closes.
+  std::vector<std::int32_t> ring{r[0], r[1]};
+  f.shell.push_back(t0);
+  for (std::int32_t cur = t0;;) {
+    const std::int32_t next = ft.across(cur, p, q, ring.back());
+    if (next < 0 || ft.solid(next) != ft.solid(t0)) return f;  // an element, or the surface
+    std::int32_t x = -1;
+    for (std::int32_t w : ft.tet(next))
+      if (w != p && w != q && w != ring.back()) x = w;
+    f.shell.push_back(next);
+    if (x == r[0]) break;
+    if (static_cast<int>(ring.size()) == kMaxRing || next == t0) return f;
+    ring.push_back(x);
+    cur = next;
+  }
+  if (f.shell.size() != ring.size()) return f;
+  for (std::int32_t t : f.shell) f.old_min = std::min(f.old_min, ft.quality(t));
+  // Ring orientation seen along p -> q: new tets (p, A, B, C) with A, B, C in ring order have
+  // the sign of (p, q, r0, r1), those of q the other sign.
+  const auto& X = ft.X();
+  const double s = orient(X, p, q, ring[0], ring[1]) > 0 ? 1.0 : -1.0;
+  const int m = static_cast<int>(ring.size());
+  auto tri_quality = [&](int a, int b, int c) {
+    const std::int32_t A = ring[a], B = ring[b], C = ring[c];
+    if (!(s * orient(X, p, A, B, C) > 0) || !(s * orient(X, q, A, B, C) < 0)) return -2.0;
+    Vec3 x[4];
+    x[0] = X[p];
+    x[1] = X[A];
+    x[2] = X[s > 0 ? B : C];
+    x[3] = X[s > 0 ? C : B];
+    double qp = min_scaled_jacobian(CellKind::Tet4, x);
+    x[0] = X[q];
+    x[2] = X[s > 0 ? C : B];
+    x[3] = X[s > 0 ? B : C];
+    return std::min(qp, min_scaled_jacobian(CellKind::Tet4, x));
+  };
+  // Max-min triangulation of the ring polygon by dynamic programming over chains (i, j).
+  double best[kMaxRing][kMaxRing];
+  int pick[kMaxRing][kMaxRing];
+  for (int len = 1; len < m; ++len)
+    for (int i = 0; i + len < m; ++i) {
+      const int j = i + len;
+      best[i][j] = len == 1 ? 2.0 : -2.0;
+      pick[i][j] = -1;
+      for (int k = i + 1; k < j; ++k) {
+        const double v = std::min({tri_quality(i, k, j), best[i][k], best[k][j]});
+        if (v > best[i][j]) {
+          best[i][j] = v;
+          pick[i][j] = k;
+        }
+      }
+    }
+  if (!(best[0][m - 1] > -2)) return f;
+  f.new_min = best[0][m - 1];
+  std::vector<std::array<int, 2>> stack{{0, m - 1}};
+  while (!stack.empty()) {
+    const auto [i, j] = stack.back();
+    stack.pop_back();
+    if (j - i < 2) continue;
+    const int k = pick[i][j];
+    const std::int32_t A = ring[i], B = ring[k], C = ring[j];
+    f.added.push_back(s > 0 ? Tet{p, A, B, C} : Tet{p, A, C, B});
+    f.added.push_back(s > 0 ? Tet{q, A, C, B} : Tet{q, A, B, C});
+    stack.push_back({i, k});
+    stack.push_back({k, j});
+  }
+  return f;
+}
+
+}  // namespace
+
+SliverFlips flip_slivers(const TetTopology& topo, std::vector<char>& used, double flat_sj) {
+  SliverFlips out;
+  FreeTets ft(topo, used);
+  const auto num_tetgen = static_cast<std::int32_t>(ft.size());
+  // Passes until nothing improves; each flip raises the min quality of its shell.
+  for (int pass = 0; pass < 4; ++pass) {
+    bool changed = false;
+    for (std::int32_t t = 0; t < static_cast<std::int32_t>(ft.size()); ++t) {
+      if (!ft.alive(t) || !(ft.quality(t) < flat_sj)) continue;
+      Flip best;
+      const Tet T = ft.tet(t);
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) {
+          Flip f = remove_edge(ft, t, T[i], T[j]);
+          if (f.new_min > f.old_min && f.new_min > best.new_min) best = std::move(f);
+        }
+      if (best.new_min <= -2) continue;
+      const std::int32_t solid = ft.solid(t);
+      for (std::int32_t s : best.shell) ft.kill(s);
+      for (const Tet& n : best.added) ft.add(n, solid);
+      ++out.flips;
+      changed = true;
+    }
+    if (!changed) break;
+  }
+  for (std::int32_t t = 0; t < static_cast<std::int32_t>(ft.size()); ++t) {
+    if (t < num_tetgen) {
+      if (!used[t] && !ft.alive(t)) {
+        used[t] = 1;
+        out.removed.push_back(t);
+      }
+    } else if (ft.alive(t)) {
+      out.added.push_back(ft.tet(t));
+      out.added_solid.push_back(ft.solid(t));
+    }
+    if (ft.alive(t) && ft.quality(t) < flat_sj) ++out.slivers_left;
+  }
+  return out;
+}
+
+}  // namespace hexfem

@@ -1,0 +1,31 @@
+// Last volume stage: slivers left among free tets (a flat tet between two diagonal splits of a
+// near-planar quad, not on an element's face and not mergeable into a pyramid) are removed by
+// edge-removal flips (Shewchuk, "Two discrete optimization algorithms for the topological
+// improvement of tetrahedral meshes", 2002): the n tets around an edge of the sliver are replaced
+// by the 2(n-2) tets joining the edge's ends to a triangulation of the ring of vertices around
+// it, the triangulation with the best min scaled Jacobian. Only free tets (in no element) are
+// touched, and the shell's outer faces stay, so elements, NC faces and the surface are unchanged;
+// the volume is the same up to rounding.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "mesher/recombine_common.hpp"
+
+namespace hexfem {
+
+struct SliverFlips {
+  std::vector<std::int32_t> removed;               // TetGen tets replaced (marked used)
+  std::vector<std::array<std::int32_t, 4>> added;  // the tets replacing them, positive
+  std::vector<std::int32_t> added_solid;
+  std::size_t flips = 0;
+  std::size_t slivers_left = 0;  // free tets still below flat_sj
+};
+
+// Flips away every free tet with min scaled Jacobian below flat_sj whose edge shells are free
+// and can be re-triangulated with a better minimum (shells of up to 7 tets). Deterministic.
+SliverFlips flip_slivers(const TetTopology& topo, std::vector<char>& used, double flat_sj);
+
+}  // namespace hexfem
