@@ -98,13 +98,17 @@ void build_points(const CadModel& cad, const SizeField& size, const Caps& caps,
   }
   p.t.assign(static_cast<std::size_t>(cad.num_edges()), {});
   p.node.assign(static_cast<std::size_t>(cad.num_edges()), {});
-  // Micro edges (shorter than a tenth of the size at their ends, a CAD artefact) are
+  // Micro edges (shorter than a fiftieth of the size at their ends, a CAD artefact) are
   // collapsed: their two vertices become one node, and the triangles that would span them
-  // collapse like those at a pole.
+  // collapse like those at a pole. (A tenth collapsed real features of thin sheet parts and
+  // folded their small faces; short edges above the limit get finer sizes around them,
+  // short_segment_sizes.)
   std::vector<int> root(static_cast<std::size_t>(nv) + 1);
   for (int v = 0; v <= nv; ++v) root[static_cast<std::size_t>(v)] = v;
   auto find = [&](int v) {
-    while (root[static_cast<std::size_t>(v)] != v) v = root[static_cast<std::size_t>(v)] = root[static_cast<std::size_t>(root[static_cast<std::size_t>(v)])];
+    while (root[static_cast<std::size_t>(v)] != v)
+      v = root[static_cast<std::size_t>(v)] =
+          root[static_cast<std::size_t>(root[static_cast<std::size_t>(v)])];
     return v;
   };
   std::vector<bool> micro(static_cast<std::size_t>(cad.num_edges()), false);
@@ -113,7 +117,7 @@ void build_points(const CadModel& cad, const SizeField& size, const Caps& caps,
     if (v0 <= 0 || v1 <= 0) throw Error("edge " + std::to_string(e) + " has no vertex at an end");
     if (cad.edge_degenerate(e) || v0 == v1) continue;
     const double h = std::min(size.vertex_size(v0), size.vertex_size(v1));
-    if (cad.edge_length(e) >= 0.1 * h) continue;
+    if (cad.edge_length(e) >= 0.02 * h) continue;
     micro[static_cast<std::size_t>(e - 1)] = true;
     const int a = find(v0), b = find(v1);
     if (a != b) root[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
@@ -250,6 +254,24 @@ void narrow_face_sizes(const CadModel& cad, const EdgePoints& p, double floor,
       const Vec3& px = p.xyz[static_cast<std::size_t>(node)];
       auto& t = target[static_cast<std::size_t>(node)];
       t = std::min(t, std::max(norm(v3::sub(hit, px)), floor));
+    }
+  }
+}
+
+// A boundary segment much shorter than the size at its ends (a short CAD edge, longer than
+// the micro-edge limit) faces points a full size away across the face: a needle triangle
+// with an angle of about length/size. Its end nodes get a size of kShortEdgeFactor times the
+// segment length, and the gradation spreads it, so the angles across it stay above ~15°.
+void short_segment_sizes(const EdgePoints& p, double floor, std::vector<double>& target) {
+  constexpr double kShortEdgeFactor = 3;
+  for (const auto& nodes : p.node) {
+    for (std::size_t k = 0; k + 1 < nodes.size(); ++k) {
+      const auto a = static_cast<std::size_t>(nodes[k]), b = static_cast<std::size_t>(nodes[k + 1]);
+      if (a == b) continue;  // a degenerate or micro edge
+      const double len = norm(v3::sub(p.xyz[a], p.xyz[b]));
+      const double s = std::max(kShortEdgeFactor * len, floor);
+      target[a] = std::min(target[a], s);
+      target[b] = std::min(target[b], s);
     }
   }
 }
@@ -448,6 +470,7 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
     // at most half the distance from a smaller one; the next round's edges follow these.
     std::vector<double> target = p.size;
     narrow_face_sizes(cad, p, size.floor(), target);
+    short_segment_sizes(p, size.floor(), target);
     const std::vector<double> graded = graded_sizes(p.xyz, target, size.global(), kGradation);
     bool finer = false;
     for (std::size_t i = 0; i < graded.size(); ++i) finer = finer || graded[i] < 0.8 * p.size[i];

@@ -12,7 +12,7 @@ namespace hexfem {
 
 struct EdgePoints {
   // Boundary nodes: node v-1 is CAD vertex v, edge interior points follow. The vertices of a
-  // micro edge (shorter than a tenth of the size) share one node; the other's node is unused.
+  // micro edge (shorter than a fiftieth of the size) share one node; the other's node is unused.
   std::vector<Vec3> xyz;
   std::vector<double> size;    // size field at the node
   std::vector<int> node_edge;  // edge id of an interior edge point, 0 for a CAD vertex

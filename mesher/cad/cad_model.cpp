@@ -31,6 +31,8 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include "mesher/cad/cad_impl.hpp"
@@ -145,46 +147,67 @@ double signed_volume(const TopoDS_Shape& s) {
 }
 
 // Builds solids out of the shells and faces of a surface model by sewing; throws when no
-// closed shell comes out.
+// closed shell comes out. The sewing tolerance starts tight (1e-6 of the diagonal) and grows
+// tenfold up to 1e-3 while shells stay open: IGES writers leave gaps of their own modelling
+// tolerance between trimmed surfaces.
 std::vector<TopoDS_Solid> sew_into_solids(const TopoDS_Shape& shape, const BBox3& box,
                                           CadModel::Impl& m) {
-  const double diag =
+  // The plain (tolerance-enlarged) box too: the optimal one of untrimmed IGES surfaces can
+  // come out far too small.
+  Bnd_Box plain;
+  BRepBndLib::Add(shape, plain);
+  double diag =
       std::hypot(box.max[0] - box.min[0], box.max[1] - box.min[1], box.max[2] - box.min[2]);
-  BRepBuilderAPI_Sewing sewing(std::max(1e-6, 1e-6 * diag));
+  if (!plain.IsVoid()) diag = std::max(diag, std::sqrt(plain.SquareExtent()));
   int nfaces = 0;
-  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next(), ++nfaces)
-    sewing.Add(ex.Current());
+  for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) ++nfaces;
   if (nfaces == 0) throw Error("the file holds no solid and no surface");
-  sewing.Perform();
   std::vector<TopoDS_Solid> solids;
-  int open_shells = 0;
-  const TopoDS_Shape sewn = sewing.SewedShape();
-  auto try_shell = [&](const TopoDS_Shell& shell) {
-    if (!BRep_Tool::IsClosed(shell)) {
-      ++open_shells;
-      return;
+  int open_shells = 0, free_edges = 0;
+  double tol = 0;
+  for (double rel : {1e-6, 1e-5, 1e-4, 1e-3}) {
+    tol = std::max(1e-6, rel * diag);
+    BRepBuilderAPI_Sewing sewing(tol);
+    for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) sewing.Add(ex.Current());
+    sewing.Perform();
+    solids.clear();
+    open_shells = 0;
+    free_edges = sewing.NbFreeEdges();
+    const TopoDS_Shape sewn = sewing.SewedShape();
+    auto try_shell = [&](const TopoDS_Shell& shell) {
+      if (!BRep_Tool::IsClosed(shell)) {
+        ++open_shells;
+        return;
+      }
+      ShapeFix_Solid fix;
+      solids.push_back(fix.SolidFromShell(shell));
+    };
+    if (sewn.ShapeType() == TopAbs_FACE) {
+      // A single closed face (a sphere as one periodic B-spline surface) sews into no shell.
+      TopoDS_Shell shell;
+      BRep_Builder b;
+      b.MakeShell(shell);
+      b.Add(shell, sewn);
+      shell.Closed(BRep_Tool::IsClosed(shell));
+      try_shell(shell);
+    } else {
+      for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next())
+        try_shell(TopoDS::Shell(ex.Current()));
     }
-    ShapeFix_Solid fix;
-    solids.push_back(fix.SolidFromShell(shell));
-  };
-  if (sewn.ShapeType() == TopAbs_FACE) {
-    // A single closed face (a sphere as one periodic B-spline surface) sews into no shell.
-    TopoDS_Shell shell;
-    BRep_Builder b;
-    b.MakeShell(shell);
-    b.Add(shell, sewn);
-    shell.Closed(BRep_Tool::IsClosed(shell));
-    try_shell(shell);
-  } else {
-    for (TopExp_Explorer ex(sewn, TopAbs_SHELL); ex.More(); ex.Next())
-      try_shell(TopoDS::Shell(ex.Current()));
+    if (!solids.empty() && open_shells == 0) break;
   }
   if (solids.empty()) {
-    throw Error(m.format + " surfaces do not close into a solid (" +
-                std::to_string(sewing.NbFreeEdges()) + " free edges after sewing)");
+    char msg[200];
+    std::snprintf(msg, sizeof msg,
+                  "%s surfaces do not close into a solid (%d free edges after sewing with a "
+                  "tolerance of %.3g mm)",
+                  m.format.c_str(), free_edges, tol);
+    throw Error(msg);
   }
-  m.warnings.push_back("sewed " + std::to_string(nfaces) + " surfaces into " +
-                       std::to_string(solids.size()) + " solid(s)");
+  char msg[200];
+  std::snprintf(msg, sizeof msg, "sewed %d surfaces into %zu solid(s) (tolerance %.3g mm)", nfaces,
+                solids.size(), tol);
+  m.warnings.push_back(msg);
   if (open_shells > 0) m.warnings.push_back(std::to_string(open_shells) + " open shell(s) ignored");
   return solids;
 }

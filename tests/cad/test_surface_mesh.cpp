@@ -136,6 +136,47 @@ TEST(SurfaceMesh, SingularPointsAndSeveralSolids) {
   EXPECT_EQ(s.faces_of_solid.size(), 19u);
 }
 
+TEST(SurfaceMesh, HolesCoarserThanTheSizeStayManifold) {
+  // The control arm at h = diagonal / 50 (6 mm): its 6 mm bores get three points per turn, so
+  // a chord from a seam node is drawn from both sides of the seam (four triangles on one
+  // edge) unless it is split. Small angles at its short CAD edges are allowed here.
+  const CadModel cad = CadModel::read(data("0049_control_arm.step"));
+  const BBox3 b = cad.bbox();
+  SurfaceOptions opt;
+  opt.h = std::hypot(b.max[0] - b.min[0], b.max[1] - b.min[1], b.max[2] - b.min[2]) / 50;
+  const SurfaceMesh s = mesh_surface(cad, opt);
+  const auto checks = check_solids(s);
+  ASSERT_EQ(checks.size(), 1u);
+  EXPECT_TRUE(checks[0].ok()) << checks[0].open_edges << " open, " << checks[0].nonmanifold_edges
+                              << " non-manifold, self-intersects " << checks[0].self_intersects;
+  for (const auto& d : surface_defects(s)) EXPECT_EQ(d.find(" edge ("), std::string::npos) << d;
+  EXPECT_NEAR(checks[0].volume, cad.volume(), 0.05 * cad.volume());
+}
+
+TEST(SurfaceMesh, DefectsNameTheirFaces) {
+  // Two copies of one triangle glued on all three edges are closed but every edge runs the
+  // same way twice; one lone triangle is open; a needle triangle has a tiny angle.
+  SurfaceMesh s;
+  s.mesh.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 0, 0}, {6, 0, 0}, {5, 0.01, 0}};
+  s.mesh.add_bface(0, 1, 2, -1, 7);
+  s.mesh.add_bface(0, 1, 2, -1, 8);
+  s.mesh.add_bface(3, 4, 5, -1, 9);
+  s.faces_of_solid = {{}, {7, 8}, {9}};
+  const auto checks = check_solids(s);
+  ASSERT_EQ(checks.size(), 2u);
+  EXPECT_EQ(checks[0].misoriented_edges, 3u);
+  EXPECT_EQ(checks[1].open_edges, 3u);
+  const auto d = surface_defects(s);
+  auto count = [&](const std::string& needle) {
+    return std::count_if(d.begin(), d.end(),
+                         [&](const std::string& l) { return l.find(needle) != std::string::npos; });
+  };
+  EXPECT_EQ(count("solid 1: misoriented edge"), 3);
+  EXPECT_EQ(count("CAD faces 7,8"), 3);
+  EXPECT_EQ(count("solid 2: open edge"), 3);
+  EXPECT_EQ(count("CAD face 9: triangle with a 0.573 deg angle"), 1);
+}
+
 TEST(SurfaceMesh, CrossFieldFollowsTheBoundary) {
   // On the disk cap of the cylinder, near the rim one direction of the cross is the tangent
   // of the circle (the Dirichlet data); at the centre the field is smooth (no NaN).
