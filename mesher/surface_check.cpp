@@ -90,6 +90,23 @@ TriangleQuality triangle_quality(const MixedMesh& m) {
     const auto& fs = it->second;
     return std::any_of(fs.begin(), fs.end(), [&](int x) { return x != fs.front(); });
   };
+  // A node lies on a CAD edge when triangles of two CAD faces meet at it.
+  std::vector<int> face_at(m.nodes.size(), 0);
+  std::vector<bool> on_edge_node(m.nodes.size(), false);
+  for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
+    const auto* t = m.bface(f);
+    const int nv = m.bface_is_quad(f) ? 4 : 3;
+    for (int k = 0; k < nv; ++k) {
+      const auto n = static_cast<std::size_t>(t[k]);
+      if (face_at[n] == 0)
+        face_at[n] = m.bface_cad_face[f];
+      else if (face_at[n] != m.bface_cad_face[f])
+        on_edge_node[n] = true;
+    }
+  }
+  auto node_on_cad_edge = [&](int n) {
+    return static_cast<bool>(on_edge_node[static_cast<std::size_t>(n)]);
+  };
   for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
     if (m.bface_is_quad(f)) continue;
     const auto* t = m.bface(f);
@@ -103,8 +120,12 @@ TriangleQuality triangle_quality(const MixedMesh& m) {
     if (lo < 5) {
       ++q.below_5;
       const int k = ang[0] == lo ? 0 : ang[1] == lo ? 1 : 2;
-      if (on_cad_edge(t[k], t[(k + 1) % 3]) && on_cad_edge(t[k], t[(k + 2) % 3]))
+      const int a1 = t[(k + 1) % 3], a2 = t[(k + 2) % 3];
+      if (on_cad_edge(t[k], a1) && on_cad_edge(t[k], a2))
         ++q.below_5_at_sharp_corners;
+      else if (node_on_cad_edge(t[0]) && node_on_cad_edge(t[1]) && node_on_cad_edge(t[2]) &&
+               !on_cad_edge(a1, a2))
+        ++q.below_5_across_gaps;
     }
     if (is_right_isosceles(a, b, c)) ++ri;
     ++q.triangles;

@@ -24,6 +24,10 @@ struct TriangleQuality {
   // Of those, the ones whose smallest angle sits between two edges on CAD edges (a corner of
   // a face sharper than 5° in the CAD model, which no triangulation of the face can avoid).
   std::size_t below_5_at_sharp_corners = 0;
+  // Of the others, those whose three corners all lie on CAD edges with the short side a chord
+  // across the face (not on a CAD edge): the face is narrower there than any spacing of its
+  // edge points can follow (next to a tangent cusp, where two CAD edges meet at 0°).
+  std::size_t below_5_across_gaps = 0;
   double right_isosceles_share = 0;
 };
 TriangleQuality triangle_quality(const MixedMesh& mesh);

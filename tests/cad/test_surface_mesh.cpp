@@ -151,6 +151,11 @@ TEST(SurfaceMesh, HolesCoarserThanTheSizeStayManifold) {
                               << " non-manifold, self-intersects " << checks[0].self_intersects;
   for (const auto& d : surface_defects(s)) EXPECT_EQ(d.find(" edge ("), std::string::npos) << d;
   EXPECT_NEAR(checks[0].volume, cad.volume(), 0.05 * cad.volume());
+  // The only angles below 5° are forced by the CAD model: at face corners sharper than 5°
+  // and in the slivers next to tangent cusps (none along a short CAD edge or at an interior
+  // point).
+  const TriangleQuality q = triangle_quality(s.mesh);
+  EXPECT_EQ(q.below_5, q.below_5_at_sharp_corners + q.below_5_across_gaps) << q.min_angle;
 }
 
 TEST(SurfaceMesh, DefectsNameTheirFaces) {
