@@ -170,11 +170,12 @@ double estimate_surface_points(const CadModel& cad, const SurfaceOptions& option
   return n;
 }
 
-SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
-                         SurfaceReport* report) {
-  SurfaceReport local;
-  SurfaceReport& rep = report ? *report : local;
+namespace {
+
+SurfaceMesh mesh_surface_once(const CadModel& cad, const SurfaceOptions& options,
+                              SurfaceReport& rep) {
   rep = SurfaceReport{};
+  rep.curvature_used = options.curvature;
   if (!(options.k > 0 && options.k < 1)) throw Error("the packing factor k must be in (0, 1)");
 
   require_manifold_solids(cad);
@@ -388,6 +389,49 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
   rep.quality = triangle_quality(m);
   rep.stage_seconds.emplace_back("assembly", seconds_since(t0));
   end_progress();
+  return out;
+}
+
+bool all_valid(const std::vector<SolidCheck>& checks) {
+  return std::all_of(checks.begin(), checks.end(), [](const SolidCheck& c) { return c.ok(); });
+}
+
+}  // namespace
+
+SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
+                         SurfaceReport* report) {
+  SurfaceReport local;
+  SurfaceReport& rep = report ? *report : local;
+  SurfaceMesh out = mesh_surface_once(cad, options, rep);
+  auto t0 = Clock::now();
+  rep.checks = check_solids(out);
+  rep.stage_seconds.emplace_back("checks", seconds_since(t0));
+  // A size coarser than a thin wall's bend or a tight curved face lets chords of the two
+  // sides cross (thin sheet parts at h much larger than the thickness). Meshing again with a
+  // curvature bound (8, then 16 elements per turn, or twice the user's) follows such bends.
+  if (!options.repair || all_valid(rep.checks)) return out;
+  int curvature = options.curvature;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    curvature = curvature > 0 ? 2 * curvature : 8;
+    SurfaceOptions retry = options;
+    retry.curvature = curvature;
+    SurfaceReport again;
+    SurfaceMesh mesh;
+    try {
+      mesh = mesh_surface_once(cad, retry, again);
+    } catch (const Error&) {
+      break;  // the finer sizes exceed the point budget: keep the first mesh and its checks
+    }
+    t0 = Clock::now();
+    again.checks = check_solids(mesh);
+    again.stage_seconds.emplace_back("checks", seconds_since(t0));
+    for (const auto& [stage, sec] : rep.stage_seconds)
+      again.stage_seconds.emplace_back("first attempt: " + stage, sec);
+    again.curvature_used = curvature;
+    rep = std::move(again);
+    out = std::move(mesh);
+    if (all_valid(rep.checks)) break;
+  }
   return out;
 }
 

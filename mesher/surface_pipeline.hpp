@@ -19,6 +19,8 @@ struct SurfaceOptions {
   double k = 0.7;                                    // packing exclusion factor (paper: 0.7)
   bool force = false;                                // allow more than max_points
   double max_points = 50e6;
+  // Mesh again with a curvature bound when the result fails check_solids (see mesh_surface).
+  bool repair = true;
 };
 
 struct SurfaceReport {
@@ -31,9 +33,16 @@ struct SurfaceReport {
   std::size_t background_triangles = 0;
   std::vector<std::pair<std::string, double>> stage_seconds;
   TriangleQuality quality;
+  // check_solids of the returned mesh (closed, oriented, no self-intersection per solid).
+  std::vector<SolidCheck> checks;
+  // The curvature bound of the mesh returned: options.curvature, or the one a repair used.
+  int curvature_used = 0;
 };
 
-// Throws hexfem::Error (one line) on bad options or a face that cannot be meshed.
+// Throws hexfem::Error (one line) on bad options or a face that cannot be meshed. The mesh
+// is checked (report->checks); when a solid fails and options.repair is set, the part is
+// meshed again with a curvature bound (8 then 16 elements per turn, or 2x and 4x the user's)
+// and the first valid mesh, else the last one, is returned. Deterministic.
 SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
                          SurfaceReport* report = nullptr);
 

@@ -158,6 +158,29 @@ TEST(SurfaceMesh, HolesCoarserThanTheSizeStayManifold) {
   EXPECT_EQ(q.below_5, q.below_5_at_sharp_corners + q.below_5_across_gaps) << q.min_angle;
 }
 
+TEST(SurfaceMesh, InvalidMeshIsRepairedWithACurvatureBound) {
+  // The cylinder (radius 6.75, length 42.5) at h = 20: three points per turn and two
+  // segments on the seam leave a vertex where two sheets touch. The repair meshes it again
+  // with 8 elements per turn.
+  const CadModel cad = CadModel::read(data("cylinder.stp"));
+  SurfaceOptions opt;
+  opt.h = 20;
+  opt.repair = false;
+  SurfaceReport first;
+  mesh_surface(cad, opt, &first);
+  ASSERT_EQ(first.checks.size(), 1u);
+  EXPECT_FALSE(first.checks[0].ok());
+  EXPECT_EQ(first.curvature_used, 0);
+  opt.repair = true;
+  SurfaceReport rep;
+  const SurfaceMesh s = mesh_surface(cad, opt, &rep);
+  EXPECT_EQ(rep.curvature_used, 8);
+  expect_valid(s, cad, "repaired cylinder");
+  ASSERT_EQ(rep.checks.size(), 1u);
+  EXPECT_TRUE(rep.checks[0].ok());
+  EXPECT_LT(std::abs(rep.checks[0].volume - cad.volume()), 0.15 * cad.volume());
+}
+
 TEST(SurfaceMesh, DefectsNameTheirFaces) {
   // Two copies of one triangle glued on all three edges are closed but every edge runs the
   // same way twice; one lone triangle is open; a needle triangle has a tiny angle.
