@@ -214,9 +214,9 @@ bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char
         ((miss0 | miss1) != ((1u << lf.v[1]) | (1u << lf.v[3]))))
       return false;
     // A quad face lies wholly inside, or wholly on one CAD face (never across a CAD edge).
-    bool may_be_surface = true;  // surface nodes come first in the tet mesh
-    for (int i = 0; i < 4; ++i) may_be_surface = may_be_surface && nodes[lf.v[i]] < num_surface;
-    if (!may_be_surface) continue;
+    int surface_corners = 0;  // surface nodes come first in the tet mesh
+    for (int i = 0; i < 4; ++i) surface_corners += nodes[lf.v[i]] < num_surface;
+    if (surface_corners < 3) continue;
     std::int32_t st[2];
     for (int k = 0; k < 2; ++k) {
       std::int32_t v[3];
@@ -227,6 +227,20 @@ bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char
     }
     if ((st[0] < 0) != (st[1] < 0)) return false;
     if (st[0] >= 0 && topo.cad_face(st[0]) != topo.cad_face(st[1])) return false;
+    if (st[0] >= 0) continue;
+    // An interior quad with one surface triangle on three of its corners (split along the
+    // other diagonal; the fourth corner may be inside) would be half interior, half boundary:
+    // neither matched by the cells across it nor a boundary face. Both is fine: the flat
+    // sliver between becomes part of the element and the quad a boundary face
+    // (absorb_face_slivers).
+    const std::int32_t* q = nodes;
+    const int* v = lf.v.data();
+    const bool d02 = (miss0 | miss1) == ((1u << v[1]) | (1u << v[3]));  // tets split along 0-2
+    const std::int32_t o1 = d02 ? topo.surface_triangle(q[v[0]], q[v[1]], q[v[3]])
+                                : topo.surface_triangle(q[v[0]], q[v[1]], q[v[2]]);
+    const std::int32_t o2 = d02 ? topo.surface_triangle(q[v[1]], q[v[2]], q[v[3]])
+                                : topo.surface_triangle(q[v[0]], q[v[2]], q[v[3]]);
+    if ((o1 < 0) != (o2 < 0)) return false;
   }
   double tet_vol = 0;
   for (int i = 0; i < n; ++i) tet_vol += topo.tet_volume(ts[i]);

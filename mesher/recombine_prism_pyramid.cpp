@@ -256,6 +256,10 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
         // Triangles of the quad split along the diagonal (q0, q2) of this side.
         const std::int32_t q0 = quad[side], q1 = quad[side + 1], q2 = quad[side + 2],
                            q3 = quad[(side + 3) % 4];
+        // The far side: both surface triangles (the base becomes a boundary quad) or neither
+        // (an interior quad against cells); half and half would be neither.
+        if ((topo.surface_triangle(q0, q1, q3) < 0) != (topo.surface_triangle(q1, q2, q3) < 0))
+          continue;
         const std::int32_t u = across(t, q0, q1, q2), w = across(t, q0, q2, q3);
         if (u < 0 || w < 0 || u == w || used[u] || used[w]) continue;
         if (m.tet_solid[u] != m.tet_solid[t] || m.tet_solid[w] != m.tet_solid[t]) continue;

@@ -149,7 +149,7 @@ void check_each_tet_used_once(std::size_t num_tets, const std::vector<Candidate>
 
 }  // namespace
 
-MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options,
+MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& options,
                       VolumeReport* report) {
   VolumeReport local;
   VolumeReport& r = report ? *report : local;
@@ -162,8 +162,8 @@ MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options,
   if (!(options.max_volume_gap > 0)) throw Error("the element volume tolerance must be positive");
   StageTimer timer(r);
 
-  const FrameField3D field(surface);
-  const SolidLocator locator(surface);
+  const FrameField3D field(surface_in);
+  const SolidLocator locator(surface_in);
   timer.stage("frame field + locator");
 
   VolumePointsOptions po;
@@ -171,17 +171,20 @@ MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options,
   po.random = options.random_points;
   po.seed = options.random_seed;
   po.jitter = options.jitter;
-  const VolumePoints points = insert_volume_points(surface, field, locator, po);
-  r.surface_vertices = surface.mesh.nodes.size();
+  const VolumePoints points = insert_volume_points(surface_in, field, locator, po);
+  r.surface_vertices = surface_in.mesh.nodes.size();
   r.interior_points = points.points.size();
   r.frontal_points = points.frontal_count;
   timer.stage("volume points");
 
-  const TetMesh tets = tetrahedralize(surface, points.points, locator);
+  TetMesh tets = tetrahedralize(surface_in, points.points, locator);
   r.steiner_points = tets.steiner_points;
   r.tets = tets.tets.size();
   timer.stage("tetgen");
 
+  // Flat tets on the surface go; the surface takes their other diagonal.
+  SurfaceMesh surface = surface_in;
+  r.flat_boundary_tets = drop_flat_boundary_tets(tets, surface, options.flat_tet_quality);
   const TetTopology topo(tets, surface);
   std::vector<char> used(tets.tets.size(), 0);
   ConformityIndex index;
@@ -279,6 +282,7 @@ nlohmann::json volume_report_json(const VolumeReport& r) {
   j["tets_from_tetgen"] = r.tets;
   j["absorbed_slivers"] = r.absorbed_slivers;
   j["tets_in_elements"] = r.tets_in_elements;
+  j["flat_boundary_tets"] = r.flat_boundary_tets;
   j["sliver_flips"] = r.sliver_flips;
   j["flipped_tets"] = r.flipped_tets;
   j["tets_from_flips"] = r.tets_from_flips;
@@ -324,8 +328,10 @@ std::string volume_report_text(const VolumeReport& r) {
   line("vertices        %zu (surface %zu, interior %zu, steiner %zu)", r.vertices,
        r.surface_vertices, r.interior_points, r.steiner_points);
   line("tets (tetgen)   %zu (%zu flat slivers on quad faces absorbed)", r.tets, r.absorbed_slivers);
-  line("sliver flips    %zu (%zu tets -> %zu), %zu slivers left", r.sliver_flips, r.flipped_tets,
-       r.tets_from_flips, r.slivers_left);
+  line(
+      "sliver flips    %zu (%zu tets -> %zu), %zu slivers left; %zu flat tets on the surface "
+      "dropped",
+      r.sliver_flips, r.flipped_tets, r.tets_from_flips, r.slivers_left, r.flat_boundary_tets);
   line("elements        %zu: hex %zu, prism %zu, pyramid %zu, tet %zu", r.num_cells,
        r.cells[static_cast<int>(CellKind::Hex8)], r.cells[static_cast<int>(CellKind::Wedge6)],
        r.cells[static_cast<int>(CellKind::Pyramid5)], r.cells[static_cast<int>(CellKind::Tet4)]);

@@ -43,6 +43,9 @@ struct VolumeReport {
   // Edge-removal flips of the slivers left (volume_slivers.hpp): TetGen tets replaced and the
   // tets replacing them; slivers_left: free tets still below flat_tet_quality.
   std::size_t sliver_flips = 0, flipped_tets = 0, tets_from_flips = 0, slivers_left = 0;
+  // Flat tets on the surface dropped right after TetGen (volume_slivers.hpp): TetGen's tets =
+  // these + tets in elements + absorbed slivers + flipped tets + tets left.
+  std::size_t flat_boundary_tets = 0;
   std::array<std::size_t, kNumCellKinds> cells{};  // by CellKind
   std::size_t num_cells = 0;
   std::size_t hex_candidates = 0, prism_candidates = 0, pyramid_candidates = 0;

@@ -221,4 +221,78 @@ SliverFlips flip_slivers(const TetTopology& topo, std::vector<char>& used, doubl
   return out;
 }
 
+std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj) {
+  MixedMesh& sm = surface.mesh;
+  std::unordered_map<TriKey, std::int32_t, TriKeyHash> tri;
+  tri.reserve(sm.num_bfaces());
+  for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
+    tri.emplace(tri_key(sm.bface(f)[0], sm.bface(f)[1], sm.bface(f)[2]),
+                static_cast<std::int32_t>(f));
+  const auto& X = tets.nodes;
+  auto normal = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
+    const Vec3 u{X[b][0] - X[a][0], X[b][1] - X[a][1], X[b][2] - X[a][2]};
+    const Vec3 v{X[c][0] - X[a][0], X[c][1] - X[a][1], X[c][2] - X[a][2]};
+    return Vec3{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  };
+  auto dot = [](const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  std::vector<char> drop(tets.tets.size(), 0);
+  std::size_t dropped = 0;
+  for (std::size_t t = 0; t < tets.tets.size(); ++t) {
+    const Tet& T = tets.tets[t];
+    Vec3 x[4];
+    for (int i = 0; i < 4; ++i) x[i] = X[T[i]];
+    if (!(min_scaled_jacobian(CellKind::Tet4, x) < flat_sj)) continue;
+    // Faces by the corner they skip; which are surface triangles.
+    std::int32_t sf[4];
+    int ns = 0, on[2] = {-1, -1}, off[2] = {-1, -1}, no = 0;
+    for (int skip = 0; skip < 4; ++skip) {
+      auto it = tri.find(tri_key(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]));
+      sf[skip] = it == tri.end() ? -1 : it->second;
+      if (sf[skip] >= 0) {
+        if (ns < 2) on[ns] = skip;
+        ++ns;
+      } else if (no < 2) {
+        off[no++] = skip;
+      }
+    }
+    if (ns != 2) continue;
+    const std::int32_t s1 = sf[on[0]], s2 = sf[on[1]];
+    if (sm.bface_cad_face[s1] != sm.bface_cad_face[s2]) continue;
+    const std::int32_t* A = sm.bface(s1);
+    const std::int32_t* B = sm.bface(s2);
+    const Vec3 n1 = normal(A[0], A[1], A[2]), n2 = normal(B[0], B[1], B[2]);
+    if (!(dot(n1, n2) > 0)) continue;  // a fold, not the two halves of one flat quad
+    // The two other faces, oriented like the surface (outward).
+    std::array<std::int32_t, 3> nf[2];
+    for (int k = 0; k < 2; ++k) {
+      const int skip = off[k];
+      nf[k] = {T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]};
+      if (dot(normal(nf[k][0], nf[k][1], nf[k][2]), n1) < 0) std::swap(nf[k][1], nf[k][2]);
+    }
+    tri.erase(tri_key(A[0], A[1], A[2]));
+    tri.erase(tri_key(B[0], B[1], B[2]));
+    const std::int32_t slot[2] = {s1, s2};
+    for (int k = 0; k < 2; ++k) {
+      std::int32_t* f = &sm.bface_nodes[4 * slot[k]];
+      f[0] = nf[k][0];
+      f[1] = nf[k][1];
+      f[2] = nf[k][2];
+      tri.emplace(tri_key(f[0], f[1], f[2]), slot[k]);
+    }
+    drop[t] = 1;
+    ++dropped;
+  }
+  if (dropped) {
+    std::size_t k = 0;
+    for (std::size_t t = 0; t < tets.tets.size(); ++t) {
+      if (drop[t]) continue;
+      tets.tets[k] = tets.tets[t];
+      tets.tet_solid[k++] = tets.tet_solid[t];
+    }
+    tets.tets.resize(k);
+    tets.tet_solid.resize(k);
+  }
+  return dropped;
+}
+
 }  // namespace hexfem

@@ -24,6 +24,15 @@ struct SliverFlips {
   std::size_t slivers_left = 0;  // free tets still below flat_sj
 };
 
+// A flat tet lying on the surface (four coplanar surface vertices, e.g. a rectangle on a
+// cylinder or a plane, whose two surface triangles split it along one diagonal while TetGen's
+// tets inside use the other) holds no volume: it is dropped and the surface takes its two other
+// faces (the same plane, the other diagonal, same CAD face and orientation). Done right after
+// TetGen, so the recombination never sees it. Tets with min scaled Jacobian below flat_sj
+// whose two surface faces meet on the diagonal (outward normals alike) and whose two other
+// faces are inside qualify. Returns how many were dropped; `tets` and `surface` are updated.
+std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj);
+
 // Flips away every free tet with min scaled Jacobian below flat_sj whose edge shells are free
 // and can be re-triangulated with a better minimum (shells of up to 7 tets). Deterministic.
 SliverFlips flip_slivers(const TetTopology& topo, std::vector<char>& used, double flat_sj);

@@ -43,13 +43,13 @@ void check_steel_part(double h) {
   EXPECT_EQ(st.open_boundary_edges, 0u);
   EXPECT_EQ(st.num_boundary_faces, st.boundary_faces_derived);
 
-  // Each TetGen tet used once: in an element, absorbed as a flat sliver, replaced by a flip, or
-  // a tet of its own.
+  // Each TetGen tet used once: in an element, absorbed as a flat sliver, replaced by a flip,
+  // dropped as a flat tet on the surface, or a tet of its own.
   const std::size_t tet_cells = st.cells_per_kind[static_cast<int>(CellKind::Tet4)];
   ASSERT_GE(tet_cells, v.tets_from_flips);
-  EXPECT_EQ(
-      v.tets_in_elements + v.absorbed_slivers + v.flipped_tets + tet_cells - v.tets_from_flips,
-      v.tets);
+  EXPECT_EQ(v.tets_in_elements + v.absorbed_slivers + v.flipped_tets + v.flat_boundary_tets +
+                tet_cells - v.tets_from_flips,
+            v.tets);
   // The elements cover the tets: volume within 1e-3 (the non-planar quad faces' gap).
   EXPECT_LT(v.volume_rel_gap, 1e-3);
   EXPECT_NEAR(st.volume, v.volume_tets, 1e-3 * v.volume_tets);
