@@ -226,9 +226,21 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   }
   r.absorbed_slivers = absorbed.size();
   if (!options.no_pyramids) {
-    const auto kept = merge_slivers_into_pyramids(topo, elements, used, options.flat_tet_quality,
-                                                  options.min_pyramid_quality);
+    auto kept = merge_slivers_into_pyramids(topo, elements, used, options.flat_tet_quality,
+                                            options.min_pyramid_quality);
     elements.insert(elements.end(), kept.begin(), kept.end());
+    // A sliver still boxed in by pyramids: they go back to tets, and the sliver tries again.
+    r.dissolved_pyramids =
+        dissolve_pyramids_next_to_slivers(topo, elements, used, options.flat_tet_quality);
+    if (r.dissolved_pyramids) {
+      const auto flat =
+          absorb_face_slivers(topo, elements, used, SliverPolicy::kFlat, options.flat_tet_quality);
+      absorbed.insert(absorbed.end(), flat.begin(), flat.end());
+      r.absorbed_slivers = absorbed.size();
+      kept = merge_slivers_into_pyramids(topo, elements, used, options.flat_tet_quality,
+                                         options.min_pyramid_quality);
+      elements.insert(elements.end(), kept.begin(), kept.end());
+    }
   }
   timer.stage("pyramids");
 
@@ -283,6 +295,7 @@ nlohmann::json volume_report_json(const VolumeReport& r) {
   j["absorbed_slivers"] = r.absorbed_slivers;
   j["tets_in_elements"] = r.tets_in_elements;
   j["flat_boundary_tets"] = r.flat_boundary_tets;
+  j["dissolved_pyramids"] = r.dissolved_pyramids;
   j["sliver_flips"] = r.sliver_flips;
   j["flipped_tets"] = r.flipped_tets;
   j["tets_from_flips"] = r.tets_from_flips;

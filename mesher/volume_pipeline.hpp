@@ -46,6 +46,7 @@ struct VolumeReport {
   // Flat tets on the surface dropped right after TetGen (volume_slivers.hpp): TetGen's tets =
   // these + tets in elements + absorbed slivers + flipped tets + tets left.
   std::size_t flat_boundary_tets = 0;
+  std::size_t dissolved_pyramids = 0;              // pyramids next to slivers turned back into tets
   std::array<std::size_t, kNumCellKinds> cells{};  // by CellKind
   std::size_t num_cells = 0;
   std::size_t hex_candidates = 0, prism_candidates = 0, pyramid_candidates = 0;
