@@ -15,9 +15,11 @@ inline std::filesystem::path work(const std::string& name) {
   return std::filesystem::path(HEXFEM_WORK_DIR) / name;
 }
 
-// Runs `hexfem args` with stderr merged into stdout; returns the exit code.
-inline int run_cli(const std::string& args, std::string* out) {
-  const std::string cmd = std::string(HEXFEM_BINARY) + " " + args + " 2>&1";
+// Runs `hexfem args` with stderr merged into stdout, with `env` ("NAME=value ...") set;
+// returns the exit code.
+inline int run_cli(const std::string& args, std::string* out, const std::string& env = "") {
+  const std::string cmd =
+      (env.empty() ? "" : "env " + env + " ") + std::string(HEXFEM_BINARY) + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return -1;
   std::array<char, 4096> buf;

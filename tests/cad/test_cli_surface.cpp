@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "cad_test_util.hpp"
 #include "mesher/mesh/mesh_io.hpp"
@@ -70,6 +72,29 @@ TEST(CliSurface, MeshWritesMshAndVtu) {
   EXPECT_NE(out.find("right-isosceles-like triangles"), std::string::npos) << out;
   EXPECT_NE(out.find("time:"), std::string::npos) << out;
   EXPECT_TRUE(std::filesystem::exists(work("cyl.vtu")));
+}
+
+std::string file_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(CliSurface, SameBytesOnEveryRunAndThreadCount) {
+  // Faces are meshed in parallel; the result must not depend on the schedule.
+  std::string out;
+  std::vector<std::string> files;
+  for (const char* threads : {"2", "2", "1"}) {
+    const auto msh =
+        work(std::string("anc_threads") + threads + "_" + std::to_string(files.size()) + ".msh");
+    ASSERT_EQ(run_cli("mesh " + data("ANC101.stp") + " --h 6 --dim 2 -o " + msh.string(), &out,
+                      std::string("OMP_NUM_THREADS=") + threads),
+              0)
+        << out;
+    files.push_back(file_bytes(msh));
+  }
+  ASSERT_GT(files[0].size(), 100000u);
+  EXPECT_TRUE(files[0] == files[1]);
+  EXPECT_TRUE(files[0] == files[2]);
 }
 
 TEST(CliSurface, BadInputFailsWithOneLine) {
