@@ -6,7 +6,8 @@
 
 1. Every CAD model at h = bounding-box diagonal / 50: bench_surface (figures and checks, one
    process per model so a crash or a hang is caught and bounded) and `hexfem mesh --dim 2`
-   (what a user sees: a mesh, or one error line and a non-zero exit).
+   (what a user sees: a mesh, or one error line and a non-zero exit); then at diagonal / 25
+   and / 100 (bench_surface only).
 2. Box, cylinder, ANC101 at about 10k points: right-isosceles share, points against area/h^2.
 3. Enclosed volume against the CAD volume: planar parts, and curved parts at three sizes.
 4. Speed of ANC101 at about 50k points on 2 threads (and 1), time per stage; determinism: the
@@ -136,6 +137,43 @@ def models_section(args, lines):
         f"5°, {summary['angle_cad']} have none but at sharp corners and cusp gaps of the CAD "
         f"model), {summary['errors']} refused with a one-line error, {summary['crash']} crashed "
         "or timed out.",
+        "",
+    ]
+
+
+def robustness_section(args, lines):
+    files = sorted(p for p in Path(args.models).iterdir() if p.suffix.lower() in CAD_EXT)
+    lines += [
+        "## 1b. The same models at h = diagonal / 25 and diagonal / 100",
+        "",
+        "`bench_surface --div D MODEL`, one process per model and size. Columns as in 1; "
+        "the two refused models give the same error at every size and are left out.",
+        "",
+        "| model | D | h | points | min angle | <5° (sharp corner + cusp gap) | checks | "
+        "curvature | time (s) |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    worst = {"invalid": 0, "unforced": 0, "failed": 0}
+    for f in files:
+        for d in (25, 100):
+            code, rows, err, _ = bench(args, ["--div", str(d)], [f])
+            if code != 0 or not rows:
+                worst["failed"] += 1
+                lines.append(f"| {f.name} | {d} | | {describe_failure(code, err)} | | | | | |")
+                continue
+            r = rows[0]
+            if r["points"].startswith("error:"):
+                continue
+            solids = r["checks"].split("/")
+            worst["invalid"] += solids[0] != solids[1]
+            n5, sharp, _, gap = r["below5"].replace("(", "").replace(")", "").split()
+            worst["unforced"] += int(n5) - int(sharp) - int(gap)
+            lines.append(f"| {f.name} | {d} | {r['h']} | {r['points']} | {r['min angle']} | "
+                         f"{r['below5']} | {r['checks']} | {r['curvature']} | {r['total']} |")
+    lines += [
+        "",
+        f"Meshes failing a check: {worst['invalid']}; triangles below 5° not forced by the "
+        f"CAD model: {worst['unforced']}; crashes or timeouts: {worst['failed']}.",
         "",
     ]
 
@@ -277,6 +315,37 @@ def bad_input_section(args, lines):
     lines.append("")
 
 
+def notes_section(args, lines):
+    lines += [
+        "## Notes: what is not met and why",
+        "",
+        "- **bearing.iges** is refused: its trimmed surfaces leave 25 free edges after sewing at "
+        "every tolerance tried (1e-6 to 1e-3 of the diagonal in the code; 1e-2 was tried by hand "
+        "with the same 25), so some surfaces are missing. Its coordinates span about 0.1 × 0.12 "
+        "× 0.03 in the file's declared unit (mm); gmsh 4.8.4 reads the same extents.",
+        "- **gehause_rohteil.stp** is refused: edge 51 bounds four face sides (faces 18, 20, 23, "
+        "44: four planes meeting on the line x = 4, z = 3), so the solid touches itself along "
+        "that edge: a non-manifold B-rep of which no closed 2-manifold surface mesh exists. "
+        "gmsh tets it because it never requires one.",
+        "- **Angles below 5°**: at h = diagonal/50 every one is forced by the CAD model (a face "
+        "corner sharper than 5°, or a sliver next to a tangent cusp that no edge spacing can "
+        "follow; e.g. control arm face 89, where edges 40 and 250 leave vertex 28 at about 2° "
+        "and stay 0.04 mm apart for a millimetre). At diagonal/25 and /100 a few are not "
+        "(table 1b): a short curved CAD edge facing points across a gap that the size "
+        "gradation leaves coarse (40mm_capot face 215), a cone apex 0.004 mm from another edge "
+        "of its face (freecad counterbore face 25), and Block after its repair.",
+        "- **Repair**: when a first mesh fails the checks (chords of the two sides of a thin "
+        "wall crossing at a coarse h: 40mm_capot and Block at diagonal/25), mesh_surface meshes "
+        "the part again with a curvature bound of 8 (then 16) elements per turn; the "
+        "`curvature` column shows where that happened.",
+        "- **Speed**: the checks (CGAL self-intersection test) are now part of mesh_surface and "
+        "of the timed total; `hexfem mesh` runs check_solids a second time (app/cmd_mesh.cpp "
+        "could use SurfaceReport::checks instead). The machine is shared, so a 2-thread run is "
+        "no faster than a 1-thread run here.",
+        "",
+    ]
+
+
 def main():
     global ARGS
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -284,8 +353,8 @@ def main():
     ap.add_argument("--out", default=str(ROOT / "validation" / "surface.md"))
     ap.add_argument("--models", default="/work/shared/models")
     ap.add_argument("--timeout", type=int, default=300)
-    ap.add_argument("--only", default="", help="comma list of sections: models,10k,volume,"
-                    "speed,bad (default all)")
+    ap.add_argument("--only", default="", help="comma list of sections: models,robust,10k,"
+                    "volume,speed,bad,notes (default all)")
     args = ARGS = ap.parse_args()
     args.bench = Path(args.build) / "validation" / "bench_surface"
     args.hexfem = Path(args.build) / "app" / "hexfem"
@@ -302,8 +371,9 @@ def main():
         "bench_surface is validation/bench_surface.cpp.",
         "",
     ]
-    sections = {"models": models_section, "10k": ten_k_section, "volume": volume_section,
-                "speed": speed_section, "bad": bad_input_section}
+    sections = {"models": models_section, "robust": robustness_section, "10k": ten_k_section,
+                "volume": volume_section, "speed": speed_section, "bad": bad_input_section,
+                "notes": notes_section}
     only = [s for s in args.only.split(",") if s] or list(sections)
     for name in only:
         sections[name](args, lines)
