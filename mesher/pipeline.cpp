@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "mesher/mesh/error.hpp"
+#include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/mesh/progress.hpp"
-#include "mesher/mesh/quality.hpp"
 
 namespace hexfem {
 
@@ -44,8 +44,15 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   MixedMesh mesh = mesh_volume(surface, options.volume, &r.volume);
   end_progress();
 
-  r.mesh_volume = 0;
-  for (std::size_t c = 0; c < mesh.num_cells(); ++c) r.mesh_volume += cell_volume(mesh, c);
+  // What we emit is valid, or nothing is: an inverted or flat cell or an open boundary would
+  // give wrong frequencies downstream without any sign of it.
+  const MeshStats stats = compute_stats(mesh);
+  if (stats.inverted > 0 || stats.degenerate > 0 || !stats.watertight)
+    throw Error("the volume mesher produced an invalid mesh (" + std::to_string(stats.inverted) +
+                " inverted, " + std::to_string(stats.degenerate) + " flat cells, " +
+                std::to_string(stats.open_boundary_edges) +
+                " open boundary edges); nothing written - try another --h");
+  r.mesh_volume = stats.volume;
   r.volume_error = r.cad_volume > 0 ? (r.mesh_volume - r.cad_volume) / r.cad_volume : 0;
   r.total_seconds = seconds_since(t0) + r.cad_seconds;
   return mesh;
