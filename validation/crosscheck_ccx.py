@@ -729,7 +729,7 @@ def main():
     ap.add_argument("--h", type=float, default=1.0, help="mesh size of the steel part (mm)")
     ap.add_argument("--out", default=os.path.join(ROOT, "validation", "out", "crosscheck"))
     ap.add_argument("--hexfem", default=os.environ.get(
-        "HEXFEM", os.path.join(ROOT, "build-xc", "app", "hexfem")))
+        "HEXFEM", os.path.join(ROOT, "build", "app", "hexfem")))
     ap.add_argument("--modes", type=int, default=10, help="modes asked of both solvers")
     ap.add_argument("--compare", type=int, default=6, help="modes compared")
     ap.add_argument("--json", help="write every figure to this JSON file")
