@@ -19,6 +19,7 @@ step() { echo; echo "=== $*"; }
 step "1. steel part, Table 2 (incompatible hex8)"
 /usr/bin/time -f "wall %e s, peak %M kB" "$HEXFEM" converge models/steel_part.step --h 2,1,0.5 \
   --fix face:8 --modes 6 --reference validation/reference/steel_part.json -o "$OUT/steel_table"
+cp "$OUT/steel_table.png" validation/steel_convergence.png
 step "1b. steel part, Table 2 (full hex8 = C3D8)"
 "$HEXFEM" converge models/steel_part.step --h 2,1,0.5 --fix face:8 --modes 6 --hex8 full \
   --reference validation/reference/steel_part.json -o "$OUT/steel_table_full"
@@ -35,4 +36,3 @@ step "4. cut-away picture"
 "$HEXFEM" mesh models/steel_part.step --h 1 -o "$OUT/steel_h1.msh" >/dev/null
 /usr/bin/python3 validation/render_cutaway.py "$OUT/steel_h1.msh" validation/steel_cutaway.png \
   --axis y --at 0.5
-echo "wrote validation/steel_cutaway.png"
