@@ -5,7 +5,6 @@
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
-#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -16,8 +15,6 @@
 namespace hexfem {
 
 namespace {
-
-constexpr double small_angle = 6 * std::numbers::pi / 180;
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 struct VInfo {
@@ -102,75 +99,30 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
   // stays valid in the parameter plane.
   auto in_domain = [&](CDT::Face_handle fh) { return !cdt.is_infinite(fh) && fh->info() % 2 == 1; };
   const std::size_t max_flips = 20 * static_cast<std::size_t>(cdt.number_of_faces()) + 100;
-  auto flip_3d = [&] {
-    for (int pass = 0; pass < 50; ++pass) {
-      std::size_t flips = 0;
-      for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
-        if (!in_domain(fh)) continue;
-        for (int i = 0; i < 3; ++i) {
-          CDT::Face_handle g = fh->neighbor(i);
-          if (cdt.is_constrained(CDT::Edge(fh, i)) || !in_domain(g)) continue;
-          const auto vp = fh->vertex(i), ve1 = fh->vertex(CDT::ccw(i)),
-                     ve2 = fh->vertex(CDT::cw(i));
-          const auto vq = g->vertex(g->index(fh));
-          const Vec3 &p = xyz(vp->info().id), &q = xyz(vq->info().id);
-          const Vec3 &e1 = xyz(ve1->info().id), &e2 = xyz(ve2->info().id);
-          if (angle(p, e1, e2) + angle(q, e1, e2) <= std::numbers::pi + 1e-6) continue;
-          // Valid in the plane: e1 and e2 strictly on opposite sides of the new edge p-q.
-          if (CGAL::orientation(vp->point(), vq->point(), ve1->point()) != CGAL::RIGHT_TURN ||
-              CGAL::orientation(vp->point(), vq->point(), ve2->point()) != CGAL::LEFT_TURN)
-            continue;
-          CDT::Face_handle h = fh;
-          cdt.flip(h, i);
-          ++flips;
-          break;  // fh changed; move on
-        }
-      }
-      out.flips += flips;
-      if (flips == 0 || out.flips > max_flips) break;
-    }
-  };
-  flip_3d();
-
-  // Triangles with an angle below 6° (3D) that have an interior point at their short edge or
-  // at their obtuse corner: that point is removed (it sits too close to another point or to a
-  // boundary segment) and the hole re-triangulated. Only boundary corners remain, which
-  // come from the CAD (a sharp face corner) or from the edge discretisation.
-  for (int round = 0; round < 8; ++round) {
-    std::vector<CDT::Vertex_handle> drop;
+  for (int pass = 0; pass < 50; ++pass) {
+    std::size_t flips = 0;
     for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
       if (!in_domain(fh)) continue;
-      std::array<double, 3> a;
-      for (int i = 0; i < 3; ++i)
-        a[static_cast<std::size_t>(i)] =
-            angle(xyz(fh->vertex(i)->info().id), xyz(fh->vertex(CDT::ccw(i))->info().id),
-                  xyz(fh->vertex(CDT::cw(i))->info().id));
-      const int lo = static_cast<int>(std::min_element(a.begin(), a.end()) - a.begin());
-      if (a[static_cast<std::size_t>(lo)] >= small_angle) continue;
-      // Needle: the two ends of the short edge (opposite the small angle); cap: the corner
-      // with the largest angle. Interior points only, the larger-angle end first.
-      const int hi = static_cast<int>(std::max_element(a.begin(), a.end()) - a.begin());
-      const int e1 = CDT::ccw(lo), e2 = CDT::cw(lo);
-      const bool cap = a[static_cast<std::size_t>(hi)] > 2.0;  // radians: above about 115°
-      std::array<int, 3> order =
-          cap ? std::array<int, 3>{hi, -1, -1}
-          : a[static_cast<std::size_t>(e1)] >= a[static_cast<std::size_t>(e2)]
-              ? std::array<int, 3>{e1, e2, -1}
-              : std::array<int, 3>{e2, e1, -1};
-      for (int i : order) {
-        if (i < 0) break;
-        if (fh->vertex(i)->info().id < nb) continue;
-        drop.push_back(fh->vertex(i));
-        break;
+      for (int i = 0; i < 3; ++i) {
+        CDT::Face_handle g = fh->neighbor(i);
+        if (cdt.is_constrained(CDT::Edge(fh, i)) || !in_domain(g)) continue;
+        const auto vp = fh->vertex(i), ve1 = fh->vertex(CDT::ccw(i)), ve2 = fh->vertex(CDT::cw(i));
+        const auto vq = g->vertex(g->index(fh));
+        const Vec3 &p = xyz(vp->info().id), &q = xyz(vq->info().id);
+        const Vec3 &e1 = xyz(ve1->info().id), &e2 = xyz(ve2->info().id);
+        if (angle(p, e1, e2) + angle(q, e1, e2) <= std::numbers::pi + 1e-6) continue;
+        // Valid in the plane: e1 and e2 strictly on opposite sides of the new edge p-q.
+        if (CGAL::orientation(vp->point(), vq->point(), ve1->point()) != CGAL::RIGHT_TURN ||
+            CGAL::orientation(vp->point(), vq->point(), ve2->point()) != CGAL::LEFT_TURN)
+          continue;
+        CDT::Face_handle h = fh;
+        cdt.flip(h, i);
+        ++flips;
+        break;  // fh changed; move on
       }
     }
-    if (drop.empty()) break;
-    std::sort(drop.begin(), drop.end(), [](auto x, auto y) { return x->info().id < y->info().id; });
-    drop.erase(std::unique(drop.begin(), drop.end()), drop.end());
-    for (auto v : drop) cdt.remove(v);
-    mark_nesting_levels(cdt);
-    out.removed += drop.size();
-    flip_3d();
+    out.flips += flips;
+    if (flips == 0 || out.flips > max_flips) break;
   }
 
   out.interior_used.assign(in.uv.size(), false);

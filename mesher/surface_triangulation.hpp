@@ -1,8 +1,7 @@
 // Stage 5: triangulation of each face from its points, in the parameter plane (CGAL
 // constrained Delaunay, the edge points' segments as constraints), scaled by the face's mean
 // metric, then edge flips toward the Delaunay criterion measured on the 3D triangles, so the
-// lattice of the packing comes out as right triangles in 3D. Interior points that make a
-// triangle with an angle below 6° are then removed.
+// lattice of the packing comes out as right triangles in 3D.
 #pragma once
 
 #include <array>
@@ -21,7 +20,6 @@ struct FaceTriangles {
   std::vector<std::array<int, 3>> triangles;
   std::vector<bool> interior_used;  // per interior point: in some triangle
   std::size_t flips = 0;
-  std::size_t removed = 0;  // interior points dropped because they made an angle below 6°
 };
 
 // Throws hexfem::Error when the boundary cannot be recovered as triangle edges.
