@@ -479,6 +479,34 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
   return out;
 }
 
+std::size_t release_orphan_slivers(const TetTopology& topo, const std::vector<Candidate>& elements,
+                                   std::vector<std::int32_t>& absorbed, std::vector<char>& used,
+                                   double flat_sj) {
+  const std::vector<QuadKey> quads = sorted_quad_keys(elements);
+  std::size_t released = 0, k = 0;
+  for (std::int32_t t : absorbed) {
+    QuadKey key = topo.mesh().tets[t];
+    std::sort(key.begin(), key.end());
+    const auto range = std::equal_range(quads.begin(), quads.end(), key);
+    const auto faces = range.second - range.first;
+    int on_surface = 0;
+    const auto& T = topo.mesh().tets[t];
+    for (int skip = 0; skip < 4; ++skip)
+      on_surface +=
+          topo.surface_triangle(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]) >= 0;
+    const bool keep =
+        faces >= 2 || (faces == 1 && (on_surface >= 2 || tet_quality(topo, t) < flat_sj));
+    if (keep) {
+      absorbed[k++] = t;
+    } else {
+      used[t] = 0;
+      ++released;
+    }
+  }
+  absorbed.resize(k);
+  return released;
+}
+
 std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candidate>& cands,
                                       std::vector<char>& used, ConformityIndex& index,
                                       const FillRules& rules) {

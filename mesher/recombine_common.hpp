@@ -165,6 +165,13 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
                                               std::vector<char>& used, SliverPolicy policy,
                                               double flat_sj = 0);
 
+// After elements were removed: every absorbed sliver that no longer qualifies under
+// absorb_face_slivers' rules (shared by two elements, under a boundary face, or below flat_sj
+// on one element's face) is freed and dropped from `absorbed`. Returns how many.
+std::size_t release_orphan_slivers(const TetTopology& topo, const std::vector<Candidate>& elements,
+                                   std::vector<std::int32_t>& absorbed, std::vector<char>& used,
+                                   double flat_sj);
+
 // Min scaled Jacobian of tet t (quality.hpp's scaling: 1 for the regular tet).
 double tet_quality(const TetTopology& topo, std::int32_t t);
 

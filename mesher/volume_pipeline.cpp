@@ -15,6 +15,7 @@
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
+#include "mesher/mesh/quality.hpp"
 #include "mesher/recombine_hex.hpp"
 #include "mesher/recombine_prism_pyramid.hpp"
 #include "mesher/solid_locator.hpp"
@@ -31,6 +32,9 @@ namespace hexfem {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// A tet this flat (min scaled Jacobian) is worth undoing a prism for.
+constexpr double kFlatTetQuality = 1e-3;
 
 // CPU time of this process's threads and of its finished children (TetGen runs in one).
 double cpu_seconds() {
@@ -230,9 +234,10 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
                                             options.min_pyramid_quality);
     elements.insert(elements.end(), kept.begin(), kept.end());
     // A sliver still boxed in by pyramids: they go back to tets, and the sliver tries again.
-    r.dissolved_pyramids =
-        dissolve_pyramids_next_to_slivers(topo, elements, used, options.flat_tet_quality);
+    r.dissolved_pyramids = dissolve_pyramids_next_to_slivers(
+        topo, elements, used, options.flat_tet_quality, kFlatTetQuality);
     if (r.dissolved_pyramids) {
+      release_orphan_slivers(topo, elements, absorbed, used, options.flat_tet_quality);
       const auto flat =
           absorb_face_slivers(topo, elements, used, SliverPolicy::kFlat, options.flat_tet_quality);
       absorbed.insert(absorbed.end(), flat.begin(), flat.end());
@@ -262,6 +267,15 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   timer.stage("assembly + NC");
 
   for (std::size_t t = 0; t < tets.tets.size(); ++t) r.volume_tets += topo.tet_volume(t);
+  // Where the gap comes from: each element against its own tets, and the absorbed slivers.
+  for (const Candidate& e : elements) {
+    Vec3 x[8];
+    for (int i = 0; i < num_nodes(e.kind); ++i) x[i] = tets.nodes[e.nodes[i]];
+    r.volume_elements_gap += volume(e.kind, x);
+    for (std::int32_t t : e.tets)
+      if (t >= 0) r.volume_elements_gap -= topo.tet_volume(t);
+  }
+  for (std::int32_t t : absorbed) r.volume_absorbed += topo.tet_volume(t);
   const MeshStats st = compute_stats(mesh);
   r.vertices = st.num_nodes;
   r.cells = st.cells_per_kind;
@@ -320,6 +334,8 @@ nlohmann::json volume_report_json(const VolumeReport& r) {
   j["volume_tets"] = r.volume_tets;
   j["volume_mixed"] = r.volume_mixed;
   j["volume_rel_gap"] = r.volume_rel_gap;
+  j["volume_elements_gap"] = r.volume_elements_gap;
+  j["volume_absorbed"] = r.volume_absorbed;
   nlohmann::json stages = nlohmann::json::array();
   for (const auto& s : r.stages)
     stages.push_back({{"stage", s.name}, {"seconds", s.seconds}, {"cpu_seconds", s.cpu_seconds}});
@@ -354,8 +370,10 @@ std::string volume_report_text(const VolumeReport& r) {
   line("NC              %.2f %% (%zu of %zu interior quads)", r.nc_percent, r.nc_quads,
        r.interior_quads);
   line("inverted        %zu", r.inverted);
-  line("volume          tets %.9g, mixed %.9g, gap %.2e", r.volume_tets, r.volume_mixed,
-       r.volume_rel_gap);
+  line(
+      "volume          tets %.9g, mixed %.9g, gap %.2e (elements - their tets %.4g, absorbed "
+      "slivers %.4g)",
+      r.volume_tets, r.volume_mixed, r.volume_rel_gap, r.volume_elements_gap, r.volume_absorbed);
   for (const auto& st : r.stages)
     line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);
   line("time total                 %8.3f s wall %8.3f s cpu (%d threads)", r.total_seconds,

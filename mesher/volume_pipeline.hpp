@@ -46,7 +46,7 @@ struct VolumeReport {
   // Flat tets on the surface dropped right after TetGen (volume_slivers.hpp): TetGen's tets =
   // these + tets in elements + absorbed slivers + flipped tets + tets left.
   std::size_t flat_boundary_tets = 0;
-  std::size_t dissolved_pyramids = 0;              // pyramids next to slivers turned back into tets
+  std::size_t dissolved_pyramids = 0;  // pyramids (and prisms) by slivers turned back into tets
   std::array<std::size_t, kNumCellKinds> cells{};  // by CellKind
   std::size_t num_cells = 0;
   std::size_t hex_candidates = 0, prism_candidates = 0, pyramid_candidates = 0;
@@ -57,6 +57,9 @@ struct VolumeReport {
   std::size_t inverted = 0;
   std::size_t boundary_triangles = 0, boundary_quads = 0;
   double volume_tets = 0, volume_mixed = 0, volume_rel_gap = 0;  // gap = |mixed - tets| / tets
+  // Sum over elements of V(element) - V(its tets), and V(absorbed slivers): the mixed volume
+  // is V(tets) + the first - the second + what elements' bilinear faces add around slivers.
+  double volume_elements_gap = 0, volume_absorbed = 0;
   std::vector<Stage> stages;
   double total_seconds = 0, total_cpu_seconds = 0;
   int threads = 1;
