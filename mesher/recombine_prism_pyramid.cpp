@@ -290,13 +290,12 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
 std::size_t dissolve_pyramids_next_to_slivers(const TetTopology& topo,
                                               std::vector<Candidate>& elements,
                                               std::vector<char>& used, double flat_sj,
-                                              double prism_sj) {
+                                              double element_sj) {
   const TetMesh& m = topo.mesh();
   std::vector<std::int32_t> owner(m.tets.size(), -1);
   for (std::size_t e = 0; e < elements.size(); ++e)
-    if (elements[e].kind == CellKind::Pyramid5 || elements[e].kind == CellKind::Wedge6)
-      for (std::int32_t t : elements[e].tets)
-        if (t >= 0) owner[t] = static_cast<std::int32_t>(e);
+    for (std::int32_t t : elements[e].tets)
+      if (t >= 0) owner[t] = static_cast<std::int32_t>(e);
   std::vector<char> dissolve(elements.size(), 0);
   for (std::size_t s = 0; s < m.tets.size(); ++s) {
     const auto t = static_cast<std::int32_t>(s);
@@ -306,7 +305,7 @@ std::size_t dissolve_pyramids_next_to_slivers(const TetTopology& topo,
     const auto& T = m.tets[t];
     auto mark = [&](std::int32_t other) {
       const std::int32_t e = owner[other];
-      if (elements[e].kind == CellKind::Pyramid5 || q < prism_sj) dissolve[e] = 1;
+      if (elements[e].kind == CellKind::Pyramid5 || q < element_sj) dissolve[e] = 1;
     };
     // Tets sharing a face with t: three of their vertices are t's.
     for (auto it = topo.star_begin(T[0]); it != topo.star_end(T[0]); ++it) {

@@ -37,14 +37,14 @@ std::vector<Candidate> place_pyramids(std::vector<Candidate>& cands, std::vector
 // made before: that face would be neither matched nor split into triangles).
 // Best pyramid first, slivers in index order; marks the tets used and returns the pyramids.
 // Pyramids holding a tet that shares a face with a free tet of min scaled Jacobian below
-// flat_sj, and prisms next to one below prism_sj (a flat tet), go back to tets (their tets
-// freed, the elements erased from `elements`), so that merge_slivers_into_pyramids and the
+// flat_sj, and any element next to one below element_sj (a flat tet), go back to tets (their
+// tets freed, the elements erased from `elements`), so that merge_slivers_into_pyramids and the
 // flips can use them. Returns how many went. Slivers absorbed into them must then be checked
 // again (release_orphan_slivers).
 std::size_t dissolve_pyramids_next_to_slivers(const TetTopology& topo,
                                               std::vector<Candidate>& elements,
                                               std::vector<char>& used, double flat_sj,
-                                              double prism_sj);
+                                              double element_sj);
 
 std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
                                                    const std::vector<Candidate>& elements,

@@ -33,7 +33,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// A tet this flat (min scaled Jacobian) is worth undoing a prism for.
+// A tet this flat (min scaled Jacobian) is worth undoing a prism or a hex for.
 constexpr double kFlatTetQuality = 1e-3;
 
 // CPU time of this process's threads and of its finished children (TetGen runs in one).
