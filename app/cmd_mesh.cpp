@@ -74,10 +74,7 @@ int run(const MeshArgs& a) {
   const SurfaceMesh surface = mesh_surface(cad, opt, &rep);
   rep.stage_seconds.insert(rep.stage_seconds.begin(), {"read CAD", read_s});
 
-  t0 = Clock::now();
-  const auto checks = check_solids(surface);
-  rep.stage_seconds.emplace_back("checks",
-                                 std::chrono::duration<double>(Clock::now() - t0).count());
+  const auto& checks = rep.checks;  // mesh_surface checked its result already
   for (const auto& c : checks) {
     if (c.ok()) continue;
     char msg[300];
@@ -112,6 +109,9 @@ int run(const MeshArgs& a) {
     j["min_angle_deg"] = rep.quality.min_angle;
     j["max_angle_deg"] = rep.quality.max_angle;
     j["triangles_below_5deg"] = rep.quality.below_5;
+    j["curvature_used"] = rep.curvature_used;
+    j["triangles_below_5deg_at_sharp_cad_corners"] = rep.quality.below_5_at_sharp_corners;
+    j["triangles_below_5deg_across_cad_gaps"] = rep.quality.below_5_across_gaps;
     j["cad_volume"] = cad.volume();
     j["mesh_volume"] = mesh_volume;
     j["solids"] = nlohmann::json::array();
@@ -137,6 +137,9 @@ int run(const MeshArgs& a) {
   std::printf("right-isosceles-like triangles: %.1f %%; angles %.2f..%.2f deg, %zu below 5 deg\n",
               100 * rep.quality.right_isosceles_share, rep.quality.min_angle, rep.quality.max_angle,
               rep.quality.below_5);
+  if (rep.curvature_used != a.curvature)
+    std::printf("curvature bound %d elements per turn (the first mesh failed its checks)\n",
+                rep.curvature_used);
   std::printf(
       "closed, outward, no self-intersection: %zu solid(s); enclosed volume %.9g (CAD %.9g)\n",
       checks.size(), mesh_volume, cad.volume());
