@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "mesher/mesh/mesh_stats.hpp"
@@ -16,26 +17,28 @@ namespace {
 
 const std::string kSteelPart = std::string(HEXFEM_SOURCE_DIR) + "/models/steel_part.step";
 
-void check_steel_part(double h) {
+// Checks every validity property on the mesh of `path` at size h, every cell with a min scaled
+// Jacobian above min_sj; returns the stats.
+MeshStats check_part(const std::string& path, double h, double min_sj) {
   MeshOptions o;
   o.surface.h = h;
   MeshReport r;
-  const MixedMesh m = mesh_file(kSteelPart, o, &r);
+  const MixedMesh m = mesh_file(path, o, &r);
   const MeshStats st = compute_stats(m);
   const VolumeReport& v = r.volume;
-  SCOPED_TRACE("h = " + std::to_string(h));
+  SCOPED_TRACE(path + ", h = " + std::to_string(h));
 
   // Every cell clearly positive: no inverted, no flat cell, a sane min scaled Jacobian per kind.
   EXPECT_EQ(st.inverted, 0u);
   EXPECT_EQ(st.degenerate, 0u);
   for (int k = 0; k < kNumCellKinds; ++k) {
     if (!st.cells_per_kind[k]) continue;
-    EXPECT_GT(st.min_sj_per_kind[k], 0.01) << kind_name(static_cast<CellKind>(k));
+    EXPECT_GT(st.min_sj_per_kind[k], min_sj) << kind_name(static_cast<CellKind>(k));
   }
   double min_cell = 1;
   for (std::size_t c = 0; c < m.num_cells(); ++c)
     min_cell = std::min(min_cell, cell_min_scaled_jacobian(m, c));
-  EXPECT_GT(min_cell, 0.01);
+  EXPECT_GT(min_cell, min_sj);
 
   // A closed boundary: every boundary edge in exactly two boundary faces, and the stored
   // boundary faces are the cells' unmatched faces.
@@ -46,15 +49,21 @@ void check_steel_part(double h) {
   // Each TetGen tet used once: in an element, absorbed as a flat sliver, replaced by a flip,
   // dropped as a flat tet on the surface, or a tet of its own.
   const std::size_t tet_cells = st.cells_per_kind[static_cast<int>(CellKind::Tet4)];
-  ASSERT_GE(tet_cells, v.tets_from_flips);
+  EXPECT_GE(tet_cells, v.tets_from_flips);
   EXPECT_EQ(v.tets_in_elements + v.absorbed_slivers + v.flipped_tets + v.flat_boundary_tets +
                 tet_cells - v.tets_from_flips,
             v.tets);
   // The elements cover the tets: volume within 1e-3 (the non-planar quad faces' gap).
+  EXPECT_NEAR(st.volume, v.volume_mixed, 1e-9 * v.volume_mixed);
   EXPECT_LT(v.volume_rel_gap, 1e-3);
   EXPECT_NEAR(st.volume, v.volume_tets, 1e-3 * v.volume_tets);
+  return st;
+}
+
+void check_steel_part(double h) {
+  const MeshStats st = check_part(kSteelPart, h, 0.01);
   // And the CAD part: the chords of the fillets and holes cut a little off or on.
-  EXPECT_NEAR(st.volume, 11394.6018, 0.01 * 11394.6018);
+  EXPECT_LT(std::abs(st.volume - 11394.6018) / 11394.6018, 0.005);
   EXPECT_GT(st.h_vol, 80.0);
 }
 
@@ -63,6 +72,15 @@ TEST(SteelPart, H2HasNoFlatCellsAndAClosedBoundary) {
 }
 TEST(SteelPart, H1HasNoFlatCellsAndAClosedBoundary) {
   check_steel_part(1.0);
+}
+
+// Thin webs and blends: at h = bbox diagonal / 30 an interior hex face had a surface triangle
+// on three corners (open edges), at / 60 a flat tet was boxed in by pyramids.
+TEST(ControlArm, CoarseAndFineHaveNoFlatCellsAndAClosedBoundary) {
+  const std::string arm = std::string(HEXFEM_TEST_DATA) + "/0049_control_arm.step";
+  // Slivers the flips cannot improve remain there (min 0.005 / 0.008 measured).
+  check_part(arm, 10.1, 0.002);
+  check_part(arm, 5.04862, 0.002);
 }
 
 }  // namespace
