@@ -204,6 +204,11 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
                                                    std::vector<char>& used, double flat_sj,
                                                    double min_pyramid) {
   const TetMesh& m = topo.mesh();
+  std::vector<std::int32_t> slivers;
+  for (std::size_t s = 0; s < m.tets.size(); ++s)
+    if (!used[s] && tet_quality(topo, static_cast<std::int32_t>(s)) < flat_sj)
+      slivers.push_back(static_cast<std::int32_t>(s));
+  if (slivers.empty()) return {};
   // Three corners of each quad face -> its fourth corner.
   std::unordered_map<TriKey, std::int32_t, TriKeyHash> quad_of_triple;
   auto add_quad = [&](const std::array<std::int32_t, 4>& q) {
@@ -238,9 +243,8 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
     return -1;
   };
   std::vector<Candidate> out;
-  for (std::size_t s = 0; s < m.tets.size(); ++s) {
-    const auto t = static_cast<std::int32_t>(s);
-    if (used[t] || !(tet_quality(topo, t) < flat_sj)) continue;
+  for (const std::int32_t t : slivers) {
+    if (used[t]) continue;  // taken by a pyramid made for an earlier sliver
     const auto& T = m.tets[t];
     Candidate best;
     best.quality = -1;
