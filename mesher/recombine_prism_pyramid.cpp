@@ -311,19 +311,17 @@ std::size_t dissolve_pyramids_next_to_slivers(const TetTopology& topo,
       const std::int32_t e = owner[other];
       if (elements[e].kind == CellKind::Pyramid5 || q < element_sj) dissolve[e] = 1;
     };
-    // Tets sharing a face with t: three of their vertices are t's.
-    for (auto it = topo.star_begin(T[0]); it != topo.star_end(T[0]); ++it) {
-      if (*it == t || owner[*it] < 0) continue;
-      int shared = 0;
-      for (std::int32_t w : m.tets[*it]) shared += w == T[0] || w == T[1] || w == T[2] || w == T[3];
-      if (shared == 3) mark(*it);
-    }
-    for (auto it = topo.star_begin(T[1]); it != topo.star_end(T[1]); ++it) {
-      if (*it == t || owner[*it] < 0) continue;
-      int shared = 0;
-      for (std::int32_t w : m.tets[*it]) shared += w == T[1] || w == T[2] || w == T[3];
-      if (shared == 3) mark(*it);  // the face (1, 2, 3), without vertex 0
-    }
+    // Tets sharing a face with t (three of their vertices are t's); for a flat t, every tet
+    // around its edges (two shared vertices), since a flip removes a whole edge shell.
+    const int need = q < element_sj ? 2 : 3;
+    for (int i = 0; i < 4; ++i)
+      for (auto it = topo.star_begin(T[i]); it != topo.star_end(T[i]); ++it) {
+        if (*it == t || owner[*it] < 0) continue;
+        int shared = 0;
+        for (std::int32_t w : m.tets[*it])
+          shared += w == T[0] || w == T[1] || w == T[2] || w == T[3];
+        if (shared >= need) mark(*it);
+      }
   }
   std::size_t k = 0, gone = 0;
   for (std::size_t e = 0; e < elements.size(); ++e) {

@@ -12,6 +12,7 @@ namespace {
 
 using Tet = std::array<std::int32_t, 4>;
 constexpr int kMaxRing = 7;  // shells of up to 7 tets: 42 triangulations at most
+constexpr double kMinFlipQuality = 1e-4;  // min scaled Jacobian of the tets a flip makes
 
 double orient(const std::vector<Vec3>& X, std::int32_t a, std::int32_t b, std::int32_t c,
               std::int32_t d) {
@@ -195,7 +196,9 @@ SliverFlips flip_slivers(const TetTopology& topo, std::vector<char>& used, doubl
       for (int i = 0; i < 4; ++i)
         for (int j = i + 1; j < 4; ++j) {
           Flip f = remove_edge(ft, t, T[i], T[j]);
-          if (f.new_min > f.old_min && f.new_min > best.new_min) best = std::move(f);
+          // Never trade a flat tet for another nearly flat one (rounding could invert it).
+          if (f.new_min > std::max(f.old_min, kMinFlipQuality) && f.new_min > best.new_min)
+            best = std::move(f);
         }
       if (best.new_min <= -2) continue;
       const std::int32_t solid = ft.solid(t);
