@@ -204,11 +204,17 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
                                                    std::vector<char>& used, double flat_sj,
                                                    double min_pyramid) {
   const TetMesh& m = topo.mesh();
+  // Flattest first: a flat tet gets the tets around it before a mere sliver takes them.
+  std::vector<std::pair<double, std::int32_t>> by_quality;
+  for (std::size_t s = 0; s < m.tets.size(); ++s) {
+    if (used[s]) continue;
+    const double q = tet_quality(topo, static_cast<std::int32_t>(s));
+    if (q < flat_sj) by_quality.emplace_back(q, static_cast<std::int32_t>(s));
+  }
+  if (by_quality.empty()) return {};
+  std::sort(by_quality.begin(), by_quality.end());
   std::vector<std::int32_t> slivers;
-  for (std::size_t s = 0; s < m.tets.size(); ++s)
-    if (!used[s] && tet_quality(topo, static_cast<std::int32_t>(s)) < flat_sj)
-      slivers.push_back(static_cast<std::int32_t>(s));
-  if (slivers.empty()) return {};
+  for (const auto& [q, t] : by_quality) slivers.push_back(t);
   // Three corners of each quad face -> its fourth corner.
   std::unordered_map<TriKey, std::int32_t, TriKeyHash> quad_of_triple;
   auto add_quad = [&](const std::array<std::int32_t, 4>& q) {

@@ -35,7 +35,7 @@ std::vector<Candidate> place_pyramids(std::vector<Candidate>& cands, std::vector
 // a pyramid with that apex over the quad, if its min scaled Jacobian reaches min_pyramid and
 // its base shares no three corners with a different quad face of `elements` (or of a pyramid
 // made before: that face would be neither matched nor split into triangles).
-// Best pyramid first, slivers in index order; marks the tets used and returns the pyramids.
+// Best pyramid first, flattest sliver first; marks the tets used and returns the pyramids.
 // Pyramids holding a tet that shares a face with a free tet of min scaled Jacobian below
 // flat_sj, and any element with a tet on an edge of one below element_sj (a flat tet: its
 // edges' shells are what the flips need), go back to tets (their tets freed, the elements
