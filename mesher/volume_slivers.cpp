@@ -11,7 +11,7 @@ namespace hexfem {
 namespace {
 
 using Tet = std::array<std::int32_t, 4>;
-constexpr int kMaxRing = 7;  // shells of up to 7 tets: 42 triangulations at most
+constexpr int kMaxRing = 7;               // shells of up to 7 tets: 42 triangulations at most
 constexpr double kMinFlipQuality = 1e-4;  // min scaled Jacobian of the tets a flip makes
 
 double orient(const std::vector<Vec3>& X, std::int32_t a, std::int32_t b, std::int32_t c,
