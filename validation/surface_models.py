@@ -24,18 +24,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-CAD_EXT = {".stp", ".step", ".igs", ".iges", ".brep", ".rle"}
-
-
-def run(cmd, timeout, env=None):
-    """(exit code or 'timeout', stdout, stderr, seconds)."""
-    t0 = time.monotonic()
-    try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
-                           env={**os.environ, **(env or {})})
-        return p.returncode, p.stdout, p.stderr, time.monotonic() - t0
-    except subprocess.TimeoutExpired:
-        return "timeout", "", "", time.monotonic() - t0
+from study_util import CAD_EXT, run  # noqa: E402  (sibling module)
 
 
 def bench_rows(out):

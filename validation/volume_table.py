@@ -25,19 +25,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-CAD_EXT = {".stp", ".step", ".igs", ".iges", ".brep", ".rle"}
+from study_util import CAD_EXT, run  # noqa: E402  (sibling module)
 KINDS = ["hex8", "wedge6", "pyramid5", "tet4"]
-
-
-def run(cmd, timeout, env=None):
-    """(exit code or 'timeout', stdout, stderr, seconds)."""
-    t0 = time.monotonic()
-    try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
-                           env={**os.environ, **(env or {})})
-        return p.returncode, p.stdout, p.stderr, time.monotonic() - t0
-    except subprocess.TimeoutExpired:
-        return "timeout", "", "", time.monotonic() - t0
 
 
 def bbox_diagonal(hexfem, model, timeout):
