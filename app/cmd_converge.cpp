@@ -58,8 +58,8 @@ int run(const ConvergeArgs& a) {
     row.h = a.sizes[i];
     row.nodes = static_cast<long>(r.mesh.nodes.size());
     row.cells = static_cast<long>(r.mesh.num_cells());
-    row.h_vol = r.stats.h_vol;
-    row.h_nbr = r.stats.h_nbr;
+    row.h_vol = r.mesh_report.stats.h_vol;
+    row.h_nbr = r.mesh_report.stats.h_nbr;
     row.seconds = r.mesh_seconds + r.solve_seconds;
     row.frequencies = r.modal.frequencies;
     std::fprintf(stderr, "converge: h = %g: %ld cells, H_vol %.2f %%, f1 %.3f Hz (%.1f s)\n", row.h,

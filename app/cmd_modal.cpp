@@ -154,11 +154,11 @@ int run(const Args& a) {
     for (int k = 0; k < kNumCellKinds; ++k) j["mesh"][kind_name(CellKind(k))] = count[k];
     if (cad_input) {
       j["mesh"]["h"] = a.h;
-      j["mesh"]["H_nbr"] = part.stats.h_nbr;
-      j["mesh"]["H_vol"] = part.stats.h_vol;
-      j["mesh"]["Q"] = part.stats.q_mean;
-      j["mesh"]["NC"] = part.stats.nc_percent;
-      j["mesh"]["inverted"] = part.stats.inverted;
+      j["mesh"]["H_nbr"] = part.mesh_report.stats.h_nbr;
+      j["mesh"]["H_vol"] = part.mesh_report.stats.h_vol;
+      j["mesh"]["Q"] = part.mesh_report.stats.q_mean;
+      j["mesh"]["NC"] = part.mesh_report.stats.nc_percent;
+      j["mesh"]["inverted"] = part.mesh_report.stats.inverted;
       j["mesh"]["volume_error"] = part.mesh_report.volume_error;
       j["mesh"]["mesh_seconds"] = part.mesh_seconds;
       if (!a.mesh_out.empty()) j["mesh"]["written"] = a.mesh_out;
@@ -206,8 +206,9 @@ int run(const Args& a) {
     std::printf(
         "hexmesh   h = %g mm: H_nbr %.2f %%, H_vol %.2f %%, Q %.3f, NC %.2f %%, inverted %zu, "
         "volume error %+.2e (%.2f s)%s%s\n",
-        a.h, part.stats.h_nbr, part.stats.h_vol, part.stats.q_mean, part.stats.nc_percent,
-        part.stats.inverted, part.mesh_report.volume_error, part.mesh_seconds,
+        a.h, part.mesh_report.stats.h_nbr, part.mesh_report.stats.h_vol,
+        part.mesh_report.stats.q_mean, part.mesh_report.stats.nc_percent,
+        part.mesh_report.stats.inverted, part.mesh_report.volume_error, part.mesh_seconds,
         a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
   std::printf("elements  hex8 %s\n", a.hex8 == "full" ? "fully integrated 2x2x2 (= CalculiX C3D8)"
                                                       : "with incompatible modes (C3D8I-like)");

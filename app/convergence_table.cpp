@@ -191,7 +191,8 @@ std::vector<std::filesystem::path> write_convergence_files(const ConvergenceStud
     dat += "\n";
   }
   write_atomically(data, false, [&](std::ostream& o) { o << dat; });
-  std::string script = "set terminal pngcairo noenhanced size 800,600\nset output '" + png.string() +
+  std::string script = "set terminal pngcairo noenhanced size 800,600\nset output '" +
+                       png.string() +
                        ".tmp'\n"
                        "set logscale xy\nset xlabel 'h'\nset ylabel '|f - f_ref| / f_ref'\n"
                        "set grid\nset key left top\nset title 'hexfem converge: " +

@@ -50,10 +50,6 @@ PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_opti
   auto t0 = Clock::now();
   r.mesh = mesh_part(cad, mesh_options, &r.mesh_report);
   r.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (r.mesh_report.volume.inverted > 0)
-    throw Error("internal error: the mesh has " + std::to_string(r.mesh_report.volume.inverted) +
-                " inverted elements");
-  r.stats = compute_stats(r.mesh);
 
   if (!modal_options.fix.empty()) {
     // The user asked for a fixed analysis: a fixed set that lets the part move is their mistake

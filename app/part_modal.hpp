@@ -7,15 +7,13 @@
 #include <vector>
 
 #include "fem/modal_solver.hpp"
-#include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/pipeline.hpp"
 
 namespace hexfem {
 
 struct PartModalResult {
   MixedMesh mesh;
-  MeshReport mesh_report;
-  MeshStats stats;
+  MeshReport mesh_report;  // mesh_report.stats: the mesh's measures
   ModalResult modal;
   double mesh_seconds = 0, solve_seconds = 0;
 };

@@ -18,10 +18,6 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
   }
   MeshReport report;
   const MixedMesh mesh = mesh_file(a.file, a.options, &report);
-  // The mesher never emits an inverted element; refuse to write one if it ever did.
-  if (report.volume.inverted > 0)
-    throw Error("internal error: the mesh has " + std::to_string(report.volume.inverted) +
-                " inverted elements; not written");
   double write_seconds = 0;
   if (!a.output.empty()) {
     const auto t0 = std::chrono::steady_clock::now();

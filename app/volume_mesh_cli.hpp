@@ -15,7 +15,7 @@ struct VolumeMeshArgs {
   bool binary = false;  // MSH 4.1 binary
 };
 
-// Meshes, checks (no inverted element may be written) and writes; prints the paper's table
+// Meshes (mesh_part emits only valid meshes) and writes; prints the paper's table
 // row, the volume error and the time per stage (or JSON). Returns the exit code.
 int run_volume_mesh(const VolumeMeshArgs& args);
 

@@ -230,9 +230,7 @@ Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduce
 
 int count_unheld_rigid_motions(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed) {
   // Centre and scale the coordinates so translations and rotations weigh alike.
-  std::vector<std::uint8_t> used(mesh.nodes.size(), 0);
-  for (std::int32_t n : mesh.cell_nodes)
-    if (n >= 0) used[n] = 1;
+  const std::vector<std::uint8_t> used = used_nodes(mesh);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
   for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
     if (!used[i]) continue;

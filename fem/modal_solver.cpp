@@ -140,7 +140,7 @@ void reject_invalid_cells(const MixedMesh& mesh) {
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
     if (cell_is_inverted(mesh, c)) {
       if (inverted++ == 0) first_inverted = static_cast<long>(c);
-    } else if (cell_is_degenerate(mesh, c)) {
+    } else if (cell_min_scaled_jacobian(mesh, c) < kDegenerateScaledJacobian) {
       if (degenerate++ == 0) first_degenerate = static_cast<long>(c);
     }
   }

@@ -46,7 +46,8 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
 
   // What we emit is valid, or nothing is: an inverted or flat cell or an open boundary would
   // give wrong frequencies downstream without any sign of it.
-  const MeshStats stats = compute_stats(mesh);
+  r.stats = compute_stats(mesh);
+  const MeshStats& stats = r.stats;
   if (stats.inverted > 0 || stats.degenerate > 0 || !stats.watertight)
     throw Error("the volume mesher produced an invalid mesh (" + std::to_string(stats.inverted) +
                 " inverted, " + std::to_string(stats.degenerate) + " flat cells, " +

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "mesher/cad/cad_model.hpp"
+#include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/surface_pipeline.hpp"
 #include "mesher/volume_pipeline.hpp"
 
@@ -19,6 +20,7 @@ struct MeshOptions {
 
 struct MeshReport {
   std::string file_unit;
+  MeshStats stats;          // of the emitted mesh (checked: no inverted/flat cell, watertight)
   double cad_volume = 0;    // mm^3
   double mesh_volume = 0;   // sum of the cell volumes, mm^3
   double volume_error = 0;  // (mesh - CAD) / CAD
