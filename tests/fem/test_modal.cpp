@@ -4,6 +4,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "fem/boundary.hpp"
 #include "fem/ccx_reference.hpp"
@@ -19,12 +22,20 @@ namespace {
 
 const Material kSteel{"steel", 210e9, 0.3, 7850};
 
+// Steel, `modes` modes, the given fixed sets; mesh lengths times `length_scale` are metres.
+ModalOptions steel(int modes, std::vector<std::string> fix = {}, double length_scale = 1.0) {
+  ModalOptions opt;
+  opt.material = kSteel;
+  opt.fix = std::move(fix);
+  opt.num_modes = modes;
+  opt.length_scale = length_scale;
+  return opt;
+}
+
 TEST(Modal, FreeFreeCubeHasSixRigidModes) {
   for (CellKind kind : test::kAllKinds) {
     const MixedMesh mesh = make_box_mesh({1, 1, 1}, 3, 3, 3, kind);
-    ModalOptions opt;
-    opt.material = kSteel;
-    opt.num_modes = 8;
+    const ModalOptions opt = steel(8);
     const ModalResult r = solve_modal(mesh, opt);
     ASSERT_EQ(r.frequencies.size(), 8u);
     const double f7 = r.frequencies[6];
@@ -46,11 +57,7 @@ TEST(Modal, FreeFreeCubeHasSixRigidModes) {
 TEST(Modal, CantileverHexMatchesCalculixC3D8) {
   // 100 x 10 x 10 mm steel, clamped at x = 0, 40 x 4 x 4 hex8: same element as C3D8.
   const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
-  ModalOptions opt;
-  opt.material = kSteel;
-  opt.fix = {"face:1"};
-  opt.num_modes = 6;
-  opt.length_scale = 1e-3;
+  const ModalOptions opt = steel(6, {"face:1"}, 1e-3);
   const ModalResult r = solve_modal(mesh, opt);
 
   const std::filesystem::path dir = std::filesystem::path(HEXFEM_WORK_DIR) / "fem_ccx_cantilever";
@@ -94,10 +101,7 @@ TEST(Modal, SlenderHexBeamMatchesEulerBernoulli) {
   const double L = 1.0, h = 0.02;
   const double fe = 1.875104 * 1.875104 / (2 * M_PI * L * L) *
                     std::sqrt(kSteel.E * (h * h * h * h / 12) / (kSteel.rho * h * h));
-  ModalOptions opt;
-  opt.material = kSteel;
-  opt.fix = {"face:1"};
-  opt.num_modes = 2;
+  const ModalOptions opt = steel(2, {"face:1"});
   const ModalResult r = solve_modal(make_box_mesh({L, h, h}, 300, 6, 6, CellKind::Hex8), opt);
   std::printf("slender beam 300x6x6: f1 = %.4f Hz, Euler-Bernoulli %.4f Hz, %+.3f %%\n",
               r.frequencies[0], fe, 100 * (r.frequencies[0] / fe - 1));
@@ -156,9 +160,7 @@ TEST(Modal, NonConformalQuadFaceAssemblesAndSolves) {
   });
   flag_nonconformal_quads(conf);
   ASSERT_TRUE(conf.nc_cell.empty());
-  ModalOptions opt;
-  opt.material = kSteel;
-  opt.num_modes = 12;
+  const ModalOptions opt = steel(12);
   const ModalResult a = solve_modal(nc, opt), b = solve_modal(conf, opt);
   // The NC face adds no zero-energy mode and no spurious one: exactly six rigid-body modes.
   for (int i = 0; i < 6; ++i) EXPECT_LT(std::abs(a.frequencies[i]), 1e-6 * a.frequencies[6]);
@@ -193,11 +195,7 @@ TEST(Modal, NonConformalBeamApproachesConformalRefinement) {
     MixedMesh a = make_box_mesh({100, 10, 10}, 10 * m, m, m, nc);
     flag_nonconformal_quads(a);
     EXPECT_EQ(a.nc_cell.size(), static_cast<std::size_t>(m * m));
-    ModalOptions opt;
-    opt.material = kSteel;
-    opt.fix = {"face:1"};
-    opt.num_modes = 6;
-    opt.length_scale = 1e-3;
+    const ModalOptions opt = steel(6, {"face:1"}, 1e-3);
     const ModalResult ra = solve_modal(a, opt);
     const ModalResult rb = solve_modal(make_box_mesh({100, 10, 10}, 10 * m, m, m, conf), opt);
     double diff = 0;
@@ -213,10 +211,7 @@ TEST(Modal, NonConformalBeamApproachesConformalRefinement) {
 
 TEST(Modal, BadInputThrows) {
   const MixedMesh mesh = make_box_mesh({1, 1, 1}, 2, 2, 2, CellKind::Hex8);
-  ModalOptions opt;
-  opt.material = kSteel;
-  opt.fix = {"face:1"};
-  opt.num_modes = 3;
+  ModalOptions opt = steel(3, {"face:1"});
   EXPECT_NO_THROW(solve_modal(mesh, opt));
   for (auto bad : {Material{"", -1, 0.3, 1}, Material{"", 1, 0.3, -1}, Material{"", 1, 0.5, 1},
                    Material{"", 1, 0.6, 1}}) {
