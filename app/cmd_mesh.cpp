@@ -168,6 +168,9 @@ RegisterCommand reg{
        sub.add_option("--k", a->volume.k, "point exclusion factor k (paper: 0.7)");
        sub.add_option("--min-quality", a->volume.min_quality,
                       "smallest scaled Jacobian of a hex or prism made");
+       sub.add_option(
+           "--max-gap", a->volume.max_total_gap,
+           "largest |V(mesh) - V(tets)| / V(tets): elements losing most go back to tets");
        sub.add_flag("--no-prisms", a->volume.no_prisms, "make no prisms");
        sub.add_flag("--no-pyramids", a->volume.no_pyramids, "make no pyramids");
        sub.add_flag("--random-points", a->volume.random_points,

@@ -20,6 +20,7 @@
 #include "mesher/recombine_prism_pyramid.hpp"
 #include "mesher/solid_locator.hpp"
 #include "mesher/tetrahedralize.hpp"
+#include "mesher/volume_gap.hpp"
 #include "mesher/volume_points.hpp"
 #include "mesher/volume_slivers.hpp"
 
@@ -164,6 +165,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   if (!(options.min_quality >= 0 && options.min_quality <= 1))
     throw Error("min quality must be in [0, 1], got " + std::to_string(options.min_quality));
   if (!(options.max_volume_gap > 0)) throw Error("the element volume tolerance must be positive");
+  if (!(options.max_total_gap > 0)) throw Error("the volume gap bound must be positive");
   StageTimer timer(r);
 
   const FrameField3D field(surface_in);
@@ -248,6 +250,15 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
     }
   }
   timer.stage("pyramids");
+
+  {
+    const VolumeGap vg = limit_volume_gap(topo, elements, absorbed, used, options.max_total_gap,
+                                          options.flat_tet_quality, kFlatTetQuality);
+    r.volume_gap_before = vg.tets > 0 ? vg.gap_before / vg.tets : 0;
+    for (int k = 0; k < kNumCellKinds; ++k) r.gap_undone[k] = vg.undone[k];
+    r.absorbed_slivers = absorbed.size();
+  }
+  timer.stage("volume gap");
 
   const SliverFlips flips = flip_slivers(topo, used, options.flat_tet_quality);
   r.sliver_flips = flips.flips;
@@ -336,6 +347,11 @@ nlohmann::json volume_report_json(const VolumeReport& r) {
   j["volume_rel_gap"] = r.volume_rel_gap;
   j["volume_elements_gap"] = r.volume_elements_gap;
   j["volume_absorbed"] = r.volume_absorbed;
+  j["volume_gap_before_limit"] = r.volume_gap_before;
+  nlohmann::json undone;
+  for (int k = 0; k < kNumCellKinds; ++k)
+    if (r.gap_undone[k]) undone[kind_name(static_cast<CellKind>(k))] = r.gap_undone[k];
+  j["undone_for_volume_gap"] = undone.is_null() ? nlohmann::json::object() : undone;
   nlohmann::json stages = nlohmann::json::array();
   for (const auto& s : r.stages)
     stages.push_back({{"stage", s.name}, {"seconds", s.seconds}, {"cpu_seconds", s.cpu_seconds}});
@@ -374,6 +390,10 @@ std::string volume_report_text(const VolumeReport& r) {
       "volume          tets %.9g, mixed %.9g, gap %.2e (elements - their tets %.4g, absorbed "
       "slivers %.4g)",
       r.volume_tets, r.volume_mixed, r.volume_rel_gap, r.volume_elements_gap, r.volume_absorbed);
+  line("volume gap      %.2e before undoing %zu hex, %zu prism, %zu pyramid losing most",
+       std::abs(r.volume_gap_before), r.gap_undone[static_cast<int>(CellKind::Hex8)],
+       r.gap_undone[static_cast<int>(CellKind::Wedge6)],
+       r.gap_undone[static_cast<int>(CellKind::Pyramid5)]);
   for (const auto& st : r.stages)
     line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);
   line("time total                 %8.3f s wall %8.3f s cpu (%d threads)", r.total_seconds,

@@ -27,6 +27,9 @@ struct VolumeOptions {
   // element (a sliver between the face's two diagonals).
   double flat_tet_quality = 0.02;
   double min_pyramid_quality = 0.05;  // pyramids with a lower min scaled Jacobian stay two tets
+  // |V(mixed) - V(tets)| / V(tets) allowed: elements whose unshared twisted quad faces lose the
+  // most volume go back to tets until it holds (volume_gap.hpp; --max-gap).
+  double max_total_gap = 8e-4;
 };
 
 struct VolumeReport {
@@ -60,6 +63,9 @@ struct VolumeReport {
   // Sum over elements of V(element) - V(its tets), and V(absorbed slivers): the mixed volume
   // is V(tets) + the first - the second + what elements' bilinear faces add around slivers.
   double volume_elements_gap = 0, volume_absorbed = 0;
+  // The gap before the elements losing most were undone (volume_gap.hpp), and how many were.
+  double volume_gap_before = 0;
+  std::array<std::size_t, kNumCellKinds> gap_undone{};
   std::vector<Stage> stages;
   double total_seconds = 0, total_cpu_seconds = 0;
   int threads = 1;

@@ -1,0 +1,122 @@
+#include "mesher/volume_gap.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/quality.hpp"
+
+namespace hexfem {
+
+namespace {
+
+// V(element) - V(its tets).
+double own_gap(const TetTopology& topo, const Candidate& e) {
+  Vec3 x[8];
+  for (int i = 0; i < num_nodes(e.kind); ++i) x[i] = topo.mesh().nodes[e.nodes[i]];
+  double d = volume(e.kind, x);
+  for (std::int32_t t : e.tets)
+    if (t >= 0) d -= topo.tet_volume(t);
+  return d;
+}
+
+struct KeyedSliver {
+  QuadKey key;
+  std::int32_t tet;
+  bool operator<(const KeyedSliver& o) const { return key != o.key ? key < o.key : tet < o.tet; }
+};
+
+struct Undo {
+  double benefit_per_volume, gain;
+  std::size_t element;
+};
+
+}  // namespace
+
+double volume_gap(const TetTopology& topo, const std::vector<Candidate>& elements,
+                  const std::vector<std::int32_t>& absorbed) {
+  double g = 0;
+  for (const Candidate& e : elements) g += own_gap(topo, e);
+  for (std::int32_t t : absorbed) g -= topo.tet_volume(t);
+  return g;
+}
+
+VolumeGap limit_volume_gap(const TetTopology& topo, std::vector<Candidate>& elements,
+                           std::vector<std::int32_t>& absorbed, std::vector<char>& used,
+                           double max_rel_gap, double flat_sj, double keep_sj) {
+  VolumeGap r;
+  for (std::size_t t = 0; t < topo.mesh().tets.size(); ++t) r.tets += topo.tet_volume(t);
+  double g = volume_gap(topo, elements, absorbed);
+  r.gap_before = g;
+  const double budget = max_rel_gap * r.tets;
+  // A few rounds: freeing slivers makes the prediction of a round inexact.
+  for (int round = 0; round < 8 && std::abs(g) > budget; ++round) {
+    const std::vector<QuadKey> keys = sorted_quad_keys(elements);
+    std::vector<KeyedSliver> slivers;
+    for (std::int32_t t : absorbed) {
+      QuadKey k = topo.mesh().tets[t];
+      std::sort(k.begin(), k.end());
+      slivers.push_back({k, t});
+    }
+    std::sort(slivers.begin(), slivers.end());
+    const double sign = g < 0 ? 1.0 : -1.0;  // undoing must move g towards 0
+    std::vector<Undo> undo;
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+      const Candidate& e = elements[i];
+      bool keeps_valid = true;
+      for (std::int32_t t : e.tets)
+        keeps_valid = keeps_valid && (t < 0 || tet_quality(topo, t) >= keep_sj);
+      if (!keeps_valid) continue;
+      // Undoing changes the gap by -own_gap plus the slivers it frees: those on its faces that
+      // no other element shares.
+      double gain = -own_gap(topo, e);
+      const CellFaces cf = faces_of(e.kind);
+      for (int f = 0; f < cf.count && keeps_valid; ++f) {
+        if (cf.face[f].n != 4) continue;
+        // A sliver on a shared face is freed too when the neighbour goes in the same round.
+        const QuadKey k = quad_key(e, f);
+        const bool shared = quad_shared(keys, k);
+        auto it = std::lower_bound(slivers.begin(), slivers.end(), KeyedSliver{k, -1});
+        for (; it != slivers.end() && it->key == k; ++it) {
+          if (!shared) gain += topo.tet_volume(it->tet);
+          keeps_valid = keeps_valid && tet_quality(topo, it->tet) >= keep_sj;
+        }
+      }
+      if (!keeps_valid || sign * gain <= 0) continue;
+      Vec3 x[8];
+      for (int n = 0; n < num_nodes(e.kind); ++n) x[n] = topo.mesh().nodes[e.nodes[n]];
+      undo.push_back({sign * gain / volume(e.kind, x), gain, i});
+    }
+    if (undo.empty()) break;
+    std::sort(undo.begin(), undo.end(), [](const Undo& a, const Undo& b) {
+      return a.benefit_per_volume != b.benefit_per_volume
+                 ? a.benefit_per_volume > b.benefit_per_volume
+                 : a.element < b.element;
+    });
+    // Aim below the budget, so the freed slivers' surprises rarely need another round.
+    std::vector<char> drop(elements.size(), 0);
+    double predicted = g;
+    for (const Undo& u : undo) {
+      if (std::abs(predicted) <= 0.8 * budget) break;
+      drop[u.element] = 1;
+      predicted += u.gain;
+    }
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+      if (!drop[i]) {
+        elements[k++] = elements[i];
+        continue;
+      }
+      ++r.undone[static_cast<int>(elements[i].kind)];
+      for (std::int32_t t : elements[i].tets)
+        if (t >= 0) used[t] = 0;
+    }
+    elements.resize(k);
+    release_orphan_slivers(topo, elements, absorbed, used, flat_sj);
+    g = volume_gap(topo, elements, absorbed);
+  }
+  r.gap_after = g;
+  return r;
+}
+
+}  // namespace hexfem
