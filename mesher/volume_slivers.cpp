@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "mesher/mesh/quality.hpp"
+#include "mesher/vec3.hpp"
 
 namespace hexfem {
 
@@ -296,6 +297,83 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
     tets.tet_solid.resize(k);
   }
   return dropped;
+}
+
+namespace {
+
+// Min scaled Jacobian of a cell, -1 when some corner is inverted (the pyramid apex included).
+double cell_score(const MixedMesh& mesh, std::size_t c) {
+  return cell_is_inverted(mesh, c) ? -1.0 : cell_min_scaled_jacobian(mesh, c);
+}
+
+}  // namespace
+
+std::size_t lift_flat_cells(MixedMesh& mesh, std::size_t num_fixed_nodes, double min_sj) {
+  const std::size_t nc = mesh.num_cells();
+  std::vector<std::size_t> flat;
+  for (std::size_t c = 0; c < nc; ++c)
+    if (cell_score(mesh, c) < kDegenerateScaledJacobian) flat.push_back(c);
+  if (flat.empty()) return 0;
+  // Cells at each node (CSR).
+  std::vector<std::int32_t> off(mesh.nodes.size() + 1, 0), star;
+  for (std::size_t c = 0; c < nc; ++c)
+    for (int i = 0; i < num_nodes(mesh.cell_kind[c]); ++i) ++off[mesh.cell(c)[i] + 1];
+  for (std::size_t v = 0; v < mesh.nodes.size(); ++v) off[v + 1] += off[v];
+  star.resize(off.back());
+  {
+    std::vector<std::int32_t> fill(off.begin(), off.end() - 1);
+    for (std::size_t c = 0; c < nc; ++c)
+      for (int i = 0; i < num_nodes(mesh.cell_kind[c]); ++i)
+        star[fill[mesh.cell(c)[i]]++] = static_cast<std::int32_t>(c);
+  }
+  auto star_score = [&](std::int32_t p) {
+    double s = 1;
+    for (std::int32_t k = off[p]; k < off[p + 1]; ++k) s = std::min(s, cell_score(mesh, star[k]));
+    return s;
+  };
+  std::size_t lifted = 0;
+  for (std::size_t c : flat) {
+    if (cell_score(mesh, c) >= kDegenerateScaledJacobian) continue;  // an earlier move fixed it
+    const int n = num_nodes(mesh.cell_kind[c]);
+    const std::int32_t* cn = mesh.cell(c);
+    double edge = 0;
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        edge += v3::norm(v3::sub(mesh.nodes[cn[i]], mesh.nodes[cn[j]]));
+    edge /= n * (n - 1) / 2;
+    // Trial directions: the axes, and the normal of each corner's opposite triangle.
+    std::vector<Vec3> dirs = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int i = 0; i + 2 < n; ++i) {
+      const Vec3 nv = v3::cross(v3::sub(mesh.nodes[cn[i + 1]], mesh.nodes[cn[i]]),
+                                v3::sub(mesh.nodes[cn[i + 2]], mesh.nodes[cn[i]]));
+      if (v3::norm(nv) > 0) dirs.push_back(v3::scaled(nv, 1 / v3::norm(nv)));
+    }
+    std::int32_t best_node = -1;
+    Vec3 best_pos{};
+    double best = min_sj;
+    for (int i = 0; i < n; ++i) {
+      const std::int32_t p = cn[i];
+      if (static_cast<std::size_t>(p) < num_fixed_nodes) continue;
+      const Vec3 x0 = mesh.nodes[p];
+      for (double step : {0.02, 0.05, 0.1, 0.2})
+        for (const Vec3& d : dirs)
+          for (double sign : {1.0, -1.0}) {
+            const Vec3 move = v3::scaled(d, sign * step * edge);
+            mesh.nodes[p] = {x0[0] + move[0], x0[1] + move[1], x0[2] + move[2]};
+            const double s = star_score(p);
+            if (s > best) {
+              best = s;
+              best_node = p;
+              best_pos = mesh.nodes[p];
+            }
+          }
+      mesh.nodes[p] = x0;
+    }
+    if (best_node < 0) continue;
+    mesh.nodes[best_node] = best_pos;
+    ++lifted;
+  }
+  return lifted;
 }
 
 }  // namespace hexfem
