@@ -110,8 +110,9 @@ int run(const MeshArgs& a) {
     j["max_angle_deg"] = rep.quality.max_angle;
     j["triangles_below_5deg"] = rep.quality.below_5;
     j["curvature_used"] = rep.curvature_used;
-    j["triangles_below_5deg_at_sharp_cad_corners"] = rep.quality.below_5_at_sharp_corners;
-    j["triangles_below_5deg_across_cad_gaps"] = rep.quality.below_5_across_gaps;
+    // Forced by the CAD model: the small angle is at a face corner sharper than 5° there.
+    j["triangles_below_5deg_at_cad_corners_below_5deg"] = rep.quality.below_5_at_cad_corners;
+    j["forcing_cad_corner_deg"] = {rep.quality.forcing_corner_min, rep.quality.forcing_corner_max};
     j["cad_volume"] = cad.volume();
     j["mesh_volume"] = mesh_volume;
     j["solids"] = nlohmann::json::array();
@@ -134,9 +135,17 @@ int run(const MeshArgs& a) {
               cad.num_solids(), cad.num_faces(), cad.file_unit().c_str());
   std::printf("h = %g: %zu points (%zu on edges; area/h^2 = %.0f), %zu triangles\n", a.h,
               rep.points, rep.edge_points, rep.estimated_points, rep.triangles);
-  std::printf("right-isosceles-like triangles: %.1f %%; angles %.2f..%.2f deg, %zu below 5 deg\n",
+  std::printf("right-isosceles-like triangles: %.1f %%; angles %.2f..%.2f deg, %zu below 5 deg",
               100 * rep.quality.right_isosceles_share, rep.quality.min_angle, rep.quality.max_angle,
               rep.quality.below_5);
+  const auto& q = rep.quality;
+  if (q.below_5 > 0 && q.below_5_at_cad_corners == q.below_5)
+    std::printf(", all at CAD face corners sharper than 5 deg (%.3g..%.3g deg)",
+                q.forcing_corner_min, q.forcing_corner_max);
+  else if (q.below_5_at_cad_corners > 0)
+    std::printf(", %zu of them at CAD face corners sharper than 5 deg (%.3g..%.3g deg)",
+                q.below_5_at_cad_corners, q.forcing_corner_min, q.forcing_corner_max);
+  std::printf("\n");
   if (rep.curvature_used != a.curvature)
     std::printf("curvature bound %d elements per turn (the first mesh failed its checks)\n",
                 rep.curvature_used);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <string>
 #include <unordered_map>
 
@@ -39,19 +40,48 @@ double cap_at(const Caps& caps, int e, double t) {
   return prev->second + w * (it->second - prev->second);
 }
 
-double capped_size(const SizeField& size, const Caps& caps, int e, double t, double s) {
-  return std::min(size.edge_size(e, t, s), cap_at(caps, e, t));
+// Face corners sharper than kSharpCorner (degrees) get a corner zone (below) on both their
+// edges; those below kAcuteCorner are refined toward the vertex down to the narrow floor.
+constexpr double kSharpCorner = 5, kAcuteCorner = 5;
+// Across a sharp corner the points are spaced kWedgeSpacing times the width between its edges:
+// the triangles spanning the wedge keep angles near atan(1 / kWedgeSpacing), and the step from
+// the zone's long first segment to the next stays moderate (a ratio of 1 / (kWedgeSpacing *
+// corner angle)) for the face on the other side of the edge.
+constexpr double kWedgeSpacing = 4;
+
+struct Bounds {
+  Caps caps;
+
+  // Per edge, the radius of the zone at its first and last vertex (0: none) where a sharp
+  // face corner is: the edge's first point sits that far from the vertex, so the corner is
+  // one triangle, whose angle at the vertex is the corner's. Finer points there would only
+  // cut the corner into thinner triangles; beyond it the narrow-face sizes (the width across
+  // the corner) grade the spacing, so the triangles between the two edges keep their shape.
+  std::vector<std::array<double, 2>> zone;
+};
+
+// Size along edge e at parameter t (s: arc-length fraction, r_first / r_last: distance from
+// its first / last vertex).
+double capped_size(const SizeField& size, const Bounds& b, int e, double t, double s,
+                   double r_first, double r_last) {
+  const auto& z = b.zone[static_cast<std::size_t>(e - 1)];
+  if (z[0] > 0 && r_first < z[0]) return z[0];
+  if (z[1] > 0 && r_last < z[1]) return z[1];
+  return std::min(size.edge_size(e, t, s), cap_at(b.caps, e, t));
 }
 
 // Parameters of the points on edge e: equal steps of the integral of 1/size over arc length,
 // `density` times as many as the size field asks for.
-std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size, const Caps& caps,
-                                    int e, double density) {
+std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size,
+                                    const Bounds& bounds, int e, double density) {
   const Vec2 range = cad.edge_range(e);
   if (cad.edge_degenerate(e)) return {range[0], range[1]};
   const double length = cad.edge_length(e);
   double finest = size.min_size();
-  for (const auto& c : caps[static_cast<std::size_t>(e - 1)]) finest = std::min(finest, c.second);
+  for (const auto& c : bounds.caps[static_cast<std::size_t>(e - 1)])
+    finest = std::min(finest, c.second);
+  for (double z : bounds.zone[static_cast<std::size_t>(e - 1)])
+    if (z > 0) finest = std::min(finest, z);
   const int samples = static_cast<int>(std::clamp(std::ceil(6 * length / finest), 32.0, 20000.0));
   std::vector<double> ts(samples + 1), arc(samples + 1, 0.0), dens(samples + 1, 0.0);
   double max_kl = 0;
@@ -62,8 +92,23 @@ std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size, 
     arc[i] = arc[i - 1] + norm(cad.edge_derivative(e, tm)) * (ts[i] - ts[i - 1]);
   }
   const double total = arc[samples] > 0 ? arc[samples] : 1.0;
+  // Corner zones: exactly one segment each, the other points spread over the rest. Not on an
+  // edge refined for crossings (the zone's segment may be the one crossing).
+  std::array<double, 2> z = bounds.zone[static_cast<std::size_t>(e - 1)];
+  if (density != 1.0 || z[0] + z[1] > 0.9 * total) z = {0, 0};
+  auto param_at = [&](double a) {  // the parameter at arc length a
+    const auto it = std::lower_bound(arc.begin(), arc.end(), a);
+    if (it == arc.begin()) return ts.front();
+    if (it == arc.end()) return ts.back();
+    const auto i = static_cast<std::size_t>(it - arc.begin());
+    const double span = arc[i] - arc[i - 1];
+    return ts[i - 1] + (span > 0 ? (a - arc[i - 1]) / span : 0.5) * (ts[i] - ts[i - 1]);
+  };
   for (int i = 0; i <= samples; ++i) {
-    dens[i] = 1.0 / capped_size(size, caps, e, ts[i], arc[i] / total);
+    const bool in_zone = arc[i] < z[0] || total - arc[i] < z[1];
+    dens[i] = in_zone ? 0.0
+                      : 1.0 / std::min(size.edge_size(e, ts[i], arc[i] / total),
+                                       cap_at(bounds.caps, e, ts[i]));
     if (i % 4 == 0) max_kl = std::max(max_kl, cad.edge_curvature(e, ts[i]) * length);
   }
   std::vector<double> integral(samples + 1, 0.0);
@@ -72,8 +117,12 @@ std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size, 
   const bool closed = cad.edge_closed(e);
   const bool curved = max_kl > 1e-3;
   const int min_segments = closed ? 3 : (curved ? 2 : 1);
-  const int n = std::max(min_segments, static_cast<int>(std::lround(integral[samples] * density)));
+  const int zones = (z[0] > 0 ? 1 : 0) + (z[1] > 0 ? 1 : 0);
+  const int n = std::max(
+      min_segments - zones,
+      std::max(zones > 0 ? 1 : 0, static_cast<int>(std::lround(integral[samples] * density))));
   std::vector<double> out{range[0]};
+  if (z[0] > 0) out.push_back(param_at(z[0]));
   int j = 1;
   for (int k = 1; k < n; ++k) {
     const double target = integral[samples] * k / n;
@@ -82,11 +131,12 @@ std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size, 
     const double w = span > 0 ? (target - integral[j - 1]) / span : 0.5;
     out.push_back(ts[j - 1] + w * (ts[j] - ts[j - 1]));
   }
+  if (z[1] > 0) out.push_back(param_at(total - z[1]));
   out.push_back(range[1]);
   return out;
 }
 
-void build_points(const CadModel& cad, const SizeField& size, const Caps& caps,
+void build_points(const CadModel& cad, const SizeField& size, const Bounds& bounds,
                   const std::vector<double>& density, EdgePoints& p) {
   const int nv = cad.num_vertices();
   p.xyz.clear();
@@ -133,13 +183,16 @@ void build_points(const CadModel& cad, const SizeField& size, const Caps& caps,
       nodes = {vertex_node(v0), vertex_node(v1)};
       continue;
     }
-    ts = edge_parameters(cad, size, caps, e, density[static_cast<std::size_t>(e - 1)]);
+    ts = edge_parameters(cad, size, bounds, e, density[static_cast<std::size_t>(e - 1)]);
     for (std::size_t i = 0; i < ts.size(); ++i) {
       const bool first = i == 0, last = i + 1 == ts.size();
       const double s =
           ts.size() > 1 ? static_cast<double>(i) / static_cast<double>(ts.size() - 1) : 0.0;
-      const double h =
-          cad.edge_degenerate(e) ? size.vertex_size(v0) : capped_size(size, caps, e, ts[i], s);
+      const Vec3 x = cad.edge_point(e, ts[i]);
+      const double h = cad.edge_degenerate(e) ? size.vertex_size(v0)
+                                              : capped_size(size, bounds, e, ts[i], s,
+                                                            norm(v3::sub(x, cad.vertex_point(v0))),
+                                                            norm(v3::sub(x, cad.vertex_point(v1))));
       if (first || last) {
         const int n = vertex_node(first ? v0 : v1);
         nodes.push_back(n);
@@ -147,49 +200,35 @@ void build_points(const CadModel& cad, const SizeField& size, const Caps& caps,
         continue;
       }
       nodes.push_back(static_cast<int>(p.xyz.size()));
-      p.xyz.push_back(cad.edge_point(e, ts[i]));
+      p.xyz.push_back(x);
       p.size.push_back(h);
       p.node_edge.push_back(e);
     }
   }
 }
 
-// Unit tangent of edge e leaving its vertex v.
-Vec3 tangent_from(const CadModel& cad, int e, int v) {
-  const auto ends = cad.edge_vertices(e);
-  const Vec2 r = cad.edge_range(e);
-  const bool first = ends[0] == v;
-  const Vec3 d = cad.edge_derivative(e, first ? r[0] : r[1]);
-  const double l = norm(d);
-  if (!(l > 0)) return {0, 0, 0};
-  return v3::scaled(d, (first ? 1.0 : -1.0) / l);
-}
-
-// Whether edges a and b meet at a vertex at an angle below 10° (a tangent cusp): the width
-// across a cusp shrinks to nothing, and refining toward it only makes thinner triangles.
-bool tangent_corner(const CadModel& cad, int a, int b) {
-  if (cad.edge_degenerate(a) || cad.edge_degenerate(b)) return false;
-  const auto va = cad.edge_vertices(a), vb = cad.edge_vertices(b);
-  for (int v : va) {
-    if (v != vb[0] && v != vb[1]) continue;
-    if (v3::dot(tangent_from(cad, a, v), tangent_from(cad, b, v)) >
-        std::cos(10 * 3.14159265358979 / 180))
-      return true;
-  }
-  return false;
-}
-
 // Adds width samples for narrow faces: from each edge point of each face, a ray into the face
 // (normal to the boundary in the locally isometric parameter plane) to the first segment of
-// another edge; the 3D distance to the hit is the face's width there. A corner between two
-// edges is never hit by its own rays (they run along the other edge or away from it), so only
-// real strips and wedges are refined. Lowers target[node] to the width.
-void narrow_face_sizes(const CadModel& cad, const EdgePoints& p, double floor,
-                       std::vector<double>& target) {
+// another edge; the 3D distance to the hit is the face's width there. Lowers target[node] to
+// the width, but not below `floor` across an ordinary corner (the rays of an acute corner hit
+// its other edge) nor below `narrow_floor` in a strip or across a sharp corner, whose
+// triangles need points about as close as the strip is wide.
+void narrow_face_sizes(const CadModel& cad, const EdgePoints& p, double floor, double narrow_floor,
+                       std::vector<double>& target, std::vector<double>& across_sharp_corners) {
   for (int f = 1; f <= cad.num_faces(); ++f) {
     if (cad.solids_of_face(f).empty()) continue;
     const FaceBoundary b = face_boundary(cad, f, p);
     const auto& ces = cad.coedges(f);
+    std::map<std::pair<int, int>, double> corner;  // (edge, edge) -> smallest corner angle
+    for (const FaceCorner& c : face_corners(cad, f)) {
+      const int a = ces[static_cast<std::size_t>(c.in_coedge)].edge;
+      const int o = ces[static_cast<std::size_t>(c.out_coedge)].edge;
+      const double ang = std::isnan(c.angle) ? 0.0 : c.angle;
+      for (const auto& key : {std::pair{a, o}, std::pair{o, a}}) {
+        const auto [it, fresh] = corner.emplace(key, ang);
+        if (!fresh) it->second = std::min(it->second, ang);
+      }
+    }
     auto edge_of = [&](int pt) {
       return ces[static_cast<std::size_t>(b.coedge[static_cast<std::size_t>(pt)])].edge;
     };
@@ -231,10 +270,11 @@ void narrow_face_sizes(const CadModel& cad, const EdgePoints& p, double floor,
       const bg::model::segment<BPoint> ray(BPoint(x[0], x[1]), BPoint(end[0], end[1]));
       tree.query(bgi::intersects(ray), std::back_inserter(hits));
       double best = std::numeric_limits<double>::infinity();
+      int hit_edge = 0;
       Vec3 hit{};
       for (const auto& [box, si] : hits) {
         const auto& seg = b.segments[static_cast<std::size_t>(si)];
-        if (edge_of(seg[0]) == e || tangent_corner(cad, e, edge_of(seg[0]))) continue;
+        if (edge_of(seg[0]) == e) continue;
         const Vec2& a = b.uv[static_cast<std::size_t>(seg[0])];
         const Vec2& c = b.uv[static_cast<std::size_t>(seg[1])];
         // x + s (end - x) = a + w (c - a)
@@ -246,14 +286,19 @@ void narrow_face_sizes(const CadModel& cad, const EdgePoints& p, double floor,
         const double w = ((a[0] - x[0]) * ry - (a[1] - x[1]) * rx) / den;
         if (s <= 1e-12 || w < 0 || w > 1 || s >= best) continue;
         best = s;
+        hit_edge = edge_of(seg[0]);
         const Vec3& pa = p.xyz[static_cast<std::size_t>(b.node[static_cast<std::size_t>(seg[0])])];
         const Vec3& pc = p.xyz[static_cast<std::size_t>(b.node[static_cast<std::size_t>(seg[1])])];
         hit = v3::sub(pa, v3::scaled(v3::sub(pa, pc), w));
       }
       if (!std::isfinite(best)) continue;
       const Vec3& px = p.xyz[static_cast<std::size_t>(node)];
-      auto& t = target[static_cast<std::size_t>(node)];
-      t = std::min(t, std::max(norm(v3::sub(hit, px)), floor));
+      const auto c = corner.find({e, hit_edge});
+      const bool ordinary_corner = c != corner.end() && c->second >= kAcuteCorner;
+      const bool sharp_corner = c != corner.end() && c->second < kSharpCorner;
+      double& t = (sharp_corner ? across_sharp_corners : target)[static_cast<std::size_t>(node)];
+      const double width = norm(v3::sub(hit, px)) * (sharp_corner ? kWedgeSpacing : 1.0);
+      t = std::min(t, std::max(width, ordinary_corner ? floor : narrow_floor));
     }
   }
 }
@@ -274,6 +319,53 @@ void short_segment_sizes(const EdgePoints& p, double floor, std::vector<double>&
       target[b] = std::min(target[b], s);
     }
   }
+}
+
+// The corner zones of Bounds: at each face corner sharper than kSharpCorner, on both its
+// edges, the vertex's size, or less where an edge is short or finer near the vertex, and no
+// more than `other` (sizes at the points of `p` from every source but the widths across sharp
+// corners: a strip of another face, or of this one between other edges) within the zone.
+std::vector<std::array<double, 2>> corner_zones(const CadModel& cad, const SizeField& size,
+                                                const EdgePoints* p = nullptr,
+                                                const std::vector<double>* other = nullptr) {
+  std::vector<std::array<double, 2>> zone(static_cast<std::size_t>(cad.num_edges()), {0, 0});
+  for (int f = 1; f <= cad.num_faces(); ++f) {
+    if (cad.solids_of_face(f).empty()) continue;
+    const auto& ces = cad.coedges(f);
+    for (const FaceCorner& c : face_corners(cad, f)) {
+      if (!(c.angle < kSharpCorner)) continue;  // NaN too
+      const CoEdge& in = ces[static_cast<std::size_t>(c.in_coedge)];
+      const CoEdge& out = ces[static_cast<std::size_t>(c.out_coedge)];
+      if (in.edge == out.edge) continue;
+      // (edge, which end is at the corner: 0 = first, 1 = last)
+      const std::array<std::pair<int, int>, 2> ends{std::pair{in.edge, in.reversed ? 0 : 1},
+                                                    std::pair{out.edge, out.reversed ? 1 : 0}};
+      double r0 = size.vertex_size(c.vertex);
+      for (const auto& [e, end] : ends) {
+        const Vec2 range = cad.edge_range(e);
+        r0 = std::min({r0, 0.45 * cad.edge_length(e),
+                       size.edge_size(e, range[static_cast<std::size_t>(end)], end)});
+      }
+      if (p && other) {
+        const Vec3 x = cad.vertex_point(c.vertex);
+        // Outward from the vertex along both edges while within the zone, which shrinks to
+        // the sizes met there.
+        for (const auto& [e, end] : ends) {
+          const auto& nodes = p->node[static_cast<std::size_t>(e - 1)];
+          for (std::size_t k = 0; k < nodes.size(); ++k) {
+            const auto n = static_cast<std::size_t>(nodes[end == 0 ? k : nodes.size() - 1 - k]);
+            if (norm(v3::sub(p->xyz[n], x)) > r0 && k > 0) break;
+            r0 = std::min(r0, (*other)[n]);
+          }
+        }
+      }
+      for (const auto& [e, end] : ends) {
+        double& z = zone[static_cast<std::size_t>(e - 1)][static_cast<std::size_t>(end)];
+        z = z > 0 ? std::min(z, r0) : r0;
+      }
+    }
+  }
+  return zone;
 }
 
 namespace bg3 {
@@ -387,6 +479,62 @@ FaceBoundary face_boundary(const CadModel& cad, int f, const EdgePoints& p) {
   return b;
 }
 
+std::vector<FaceCorner> face_corners(const CadModel& cad, int f) {
+  const auto& ces = cad.coedges(f);
+  // Direction from the coedge's vertex at its start (leaving) or end (arriving, reversed
+  // so it also points away from the vertex): a chord a ten-thousandth of the edge long,
+  // which is the tangent at a corner and still tells the sides apart at a tangent cusp.
+  auto away = [&](const CoEdge& ce, bool at_start, double& t_vertex) -> Vec3 {
+    const Vec2 r = cad.edge_range(ce.edge);
+    const bool first = at_start != ce.reversed;  // the vertex is at the edge's first end
+    t_vertex = first ? r[0] : r[1];
+    const double t = t_vertex + (first ? 1 : -1) * 1e-4 * (r[1] - r[0]);
+    return v3::sub(cad.edge_point(ce.edge, t), cad.edge_point(ce.edge, t_vertex));
+  };
+  std::vector<FaceCorner> out;
+  std::size_t c0 = 0;
+  while (c0 < ces.size()) {
+    std::size_t c1 = c0;
+    while (c1 < ces.size() && ces[c1].wire == ces[c0].wire) ++c1;
+    for (std::size_t c = c0; c < c1; ++c) {
+      const std::size_t prev = c == c0 ? c1 - 1 : c - 1;
+      const CoEdge &in = ces[prev], &ce = ces[c];
+      const auto ends = cad.edge_vertices(ce.edge);
+      FaceCorner k;
+      k.vertex = ends[ce.reversed ? 1 : 0];
+      k.in_coedge = static_cast<int>(prev);
+      k.out_coedge = static_cast<int>(c);
+      k.angle = std::numeric_limits<double>::quiet_NaN();
+      if (!cad.edge_degenerate(in.edge) && !cad.edge_degenerate(ce.edge) &&
+          (ends[ce.reversed ? 1 : 0] == cad.edge_vertices(in.edge)[in.reversed ? 0 : 1])) {
+        double t_out = 0, t_in = 0;
+        Vec3 a = away(ce, true, t_out);
+        Vec3 b = away(in, false, t_in);
+        const SurfaceDerivs d = cad.eval(f, cad.coedge_uv(f, static_cast<int>(c), t_out));
+        Vec3 n = v3::cross(d.du, d.dv);
+        const double ln = norm(n);
+        if (ln > 1e-14 * norm(d.du) * norm(d.dv) && ln > 0) {
+          n = v3::scaled(n, 1 / ln);
+          a = v3::sub(a, v3::scaled(n, v3::dot(a, n)));
+          b = v3::sub(b, v3::scaled(n, v3::dot(b, n)));
+          if (norm(a) > 0 && norm(b) > 0) {
+            // The face lies to the left of the leaving direction (wires run with the face on
+            // their left in the parameter plane, n = du x dv): the interior angle turns
+            // counter-clockwise from a to b.
+            double ang = std::atan2(v3::dot(n, v3::cross(a, b)), v3::dot(a, b)) * 180 /
+                         3.14159265358979323846;
+            if (ang < 0) ang += 360;
+            k.angle = ang;
+          }
+        }
+      }
+      out.push_back(k);
+    }
+    c0 = c1;
+  }
+  return out;
+}
+
 std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b) {
   std::vector<std::pair<BBox, int>> boxes;
   boxes.reserve(b.segments.size());
@@ -429,11 +577,16 @@ std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b) {
 EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
   std::vector<double> density(static_cast<std::size_t>(cad.num_edges()), 1.0);
   EdgePoints p;
-  Caps caps(density.size());
+  Bounds bounds;
+  bounds.caps.resize(density.size());
+  bounds.zone = corner_zones(cad, size);
   constexpr int kRounds = 8, kSizeRounds = 5;
   constexpr double kGradation = 0.5;
+  // Narrow strips may ask for sizes far below the curvature floor (h / 20): a sliver of a face
+  // 0.04 mm wide needs points about that close, whatever h is.
+  const double narrow_floor = 0.3 * size.floor();
   for (int round = 0;; ++round) {
-    build_points(cad, size, caps, density, p);
+    build_points(cad, size, bounds, density, p);
     std::vector<bool> refine(density.size(), false);
     int bad_face = 0;
     std::string where;
@@ -468,22 +621,46 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
     }
     // Narrow faces get points no farther apart than they are wide, and every size grows by
     // at most half the distance from a smaller one; the next round's edges follow these.
+    // The corner zones follow only the sizes of the field and the widths of strips (`other`,
+    // from the field's sizes at the points, not the points' own: those already carry the
+    // zone's neighbours' fine sizes).
+    std::vector<double> other(p.size.size(), size.global());
+    for (int v = 1; v <= cad.num_vertices(); ++v)
+      other[static_cast<std::size_t>(v - 1)] = size.vertex_size(v);
+    for (int e = 1; e <= cad.num_edges(); ++e) {
+      const auto& ts = p.t[static_cast<std::size_t>(e - 1)];
+      const auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
+      if (cad.edge_degenerate(e)) continue;
+      for (std::size_t k = 0; k < ts.size(); ++k) {
+        const double sk =
+            ts.size() > 1 ? static_cast<double>(k) / static_cast<double>(ts.size() - 1) : 0.0;
+        double& o = other[static_cast<std::size_t>(nodes[k])];
+        o = std::min(o, size.edge_size(e, ts[k], sk));
+      }
+    }
     std::vector<double> target = p.size;
-    narrow_face_sizes(cad, p, size.floor(), target);
+    narrow_face_sizes(cad, p, size.floor(), narrow_floor, other, target);
     short_segment_sizes(p, size.floor(), target);
+    for (std::size_t i = 0; i < target.size(); ++i) target[i] = std::min(target[i], other[i]);
     const std::vector<double> graded = graded_sizes(p.xyz, target, size.global(), kGradation);
+    const std::vector<double> graded_other = graded_sizes(p.xyz, other, size.global(), kGradation);
+    const auto zone = corner_zones(cad, size, &p, &graded_other);
     bool finer = false;
     for (std::size_t i = 0; i < graded.size(); ++i) finer = finer || graded[i] < 0.8 * p.size[i];
     if (finer && round < kSizeRounds) {
       for (int e = 1; e <= cad.num_edges(); ++e) {
-        auto& c = caps[static_cast<std::size_t>(e - 1)];
         const auto& ts = p.t[static_cast<std::size_t>(e - 1)];
         const auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
+        auto& c = bounds.caps[static_cast<std::size_t>(e - 1)];
         c.clear();
+        // A zone's vertex is left out: its size (the zone's) is no bound beyond the zone.
+        const auto& z = zone[static_cast<std::size_t>(e - 1)];
         for (std::size_t k = 0; k < ts.size(); ++k)
-          c.emplace_back(ts[k], graded[static_cast<std::size_t>(nodes[k])]);
+          if (!(k == 0 && z[0] > 0) && !(k + 1 == ts.size() && z[1] > 0))
+            c.emplace_back(ts[k], graded[static_cast<std::size_t>(nodes[k])]);
         if (!c.empty() && c.front().first > c.back().first) std::reverse(c.begin(), c.end());
       }
+      bounds.zone = zone;
     } else if (bad_face == 0) {
       return p;
     }

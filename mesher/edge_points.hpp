@@ -41,6 +41,17 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size);
 
 FaceBoundary face_boundary(const CadModel& cad, int f, const EdgePoints& points);
 
+// A corner of a face: a CAD vertex where two consecutive coedges of a wire meet.
+struct FaceCorner {
+  int vertex = 0;
+  int in_coedge = 0, out_coedge = 0;  // indices into cad.coedges(f): arriving, leaving
+  // Interior angle of the face at the corner, degrees in [0, 360), between the CAD edges'
+  // directions leaving the vertex, measured in the tangent plane; NaN where the tangent plane
+  // or a direction is undefined (a pole, a cone apex, a degenerate edge).
+  double angle = 0;
+};
+std::vector<FaceCorner> face_corners(const CadModel& cad, int f);
+
 // Pairs of segments of `b` that cross (indices into b.segments).
 std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b);
 

@@ -11,6 +11,8 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "mesher/edge_points.hpp"
+
 namespace hexfem {
 
 namespace {
@@ -71,42 +73,52 @@ bool is_right_isosceles(const Vec3& a, const Vec3& b, const Vec3& c) {
   return std::abs(t[2] - 90) <= 10 && std::abs(t[1] - 45) <= 10 && std::abs(t[0] - 45) <= 10;
 }
 
-TriangleQuality triangle_quality(const MixedMesh& m) {
+std::vector<CadCorner> cad_corners(const CadModel& cad, const MixedMesh& m) {
+  std::map<Vec3, int> node_at;
+  for (std::size_t n = 0; n < m.nodes.size(); ++n) node_at.emplace(m.nodes[n], static_cast<int>(n));
+  // The node of each CAD vertex: the one at its point, or for the second vertex of a micro edge
+  // (collapsed onto the first by the mesher) the nearest vertex node within a thousandth of
+  // the part's size.
+  const int nv = cad.num_vertices();
+  std::vector<int> node_of(static_cast<std::size_t>(nv) + 1, -1);
+  for (int v = 1; v <= nv; ++v) {
+    const auto it = node_at.find(cad.vertex_point(v));
+    if (it != node_at.end()) node_of[static_cast<std::size_t>(v)] = it->second;
+  }
+  const BBox3 box = cad.bbox();
+  const double tol =
+      1e-3 * std::hypot(box.max[0] - box.min[0], box.max[1] - box.min[1], box.max[2] - box.min[2]);
+  for (int v = 1; v <= nv; ++v) {
+    if (node_of[static_cast<std::size_t>(v)] >= 0) continue;
+    const Vec3 x = cad.vertex_point(v);
+    double best = tol;
+    for (int w = 1; w <= nv; ++w) {
+      const int n = node_of[static_cast<std::size_t>(w)];
+      if (w == v || n < 0) continue;
+      const Vec3& y = m.nodes[static_cast<std::size_t>(n)];
+      const double d = std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
+      if (d < best) best = d, node_of[static_cast<std::size_t>(v)] = n;
+    }
+  }
+  std::vector<CadCorner> out;
+  for (int f = 1; f <= cad.num_faces(); ++f) {
+    for (const FaceCorner& c : face_corners(cad, f)) {
+      const int n = node_of[static_cast<std::size_t>(c.vertex)];
+      if (!std::isnan(c.angle) && n >= 0) out.push_back({n, f, c.angle});
+    }
+  }
+  return out;
+}
+
+TriangleQuality triangle_quality(const MixedMesh& m, const std::vector<CadCorner>& corners) {
   TriangleQuality q;
   std::size_t ri = 0;
-  // Mesh edges on CAD edges: the two triangles along them belong to different CAD faces.
-  std::map<std::pair<int, int>, std::vector<int>> edge_faces;
-  for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
-    const auto* t = m.bface(f);
-    const int nv = m.bface_is_quad(f) ? 4 : 3;
-    for (int k = 0; k < nv; ++k) {
-      const int a = t[k], b = t[(k + 1) % nv];
-      edge_faces[{std::min(a, b), std::max(a, b)}].push_back(m.bface_cad_face[f]);
-    }
+  // (node, face) -> the sharpest corner of the face at that node
+  std::map<std::pair<int, int>, double> corner_at;
+  for (const CadCorner& c : corners) {
+    const auto [it, fresh] = corner_at.emplace(std::pair{c.node, c.face}, c.angle);
+    if (!fresh) it->second = std::min(it->second, c.angle);
   }
-  auto on_cad_edge = [&](int a, int b) {
-    const auto it = edge_faces.find({std::min(a, b), std::max(a, b)});
-    if (it == edge_faces.end()) return false;
-    const auto& fs = it->second;
-    return std::any_of(fs.begin(), fs.end(), [&](int x) { return x != fs.front(); });
-  };
-  // A node lies on a CAD edge when triangles of two CAD faces meet at it.
-  std::vector<int> face_at(m.nodes.size(), 0);
-  std::vector<bool> on_edge_node(m.nodes.size(), false);
-  for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
-    const auto* t = m.bface(f);
-    const int nv = m.bface_is_quad(f) ? 4 : 3;
-    for (int k = 0; k < nv; ++k) {
-      const auto n = static_cast<std::size_t>(t[k]);
-      if (face_at[n] == 0)
-        face_at[n] = m.bface_cad_face[f];
-      else if (face_at[n] != m.bface_cad_face[f])
-        on_edge_node[n] = true;
-    }
-  }
-  auto node_on_cad_edge = [&](int n) {
-    return static_cast<bool>(on_edge_node[static_cast<std::size_t>(n)]);
-  };
   for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
     if (m.bface_is_quad(f)) continue;
     const auto* t = m.bface(f);
@@ -120,12 +132,13 @@ TriangleQuality triangle_quality(const MixedMesh& m) {
     if (lo < 5) {
       ++q.below_5;
       const int k = ang[0] == lo ? 0 : ang[1] == lo ? 1 : 2;
-      const int a1 = t[(k + 1) % 3], a2 = t[(k + 2) % 3];
-      if (on_cad_edge(t[k], a1) && on_cad_edge(t[k], a2))
-        ++q.below_5_at_sharp_corners;
-      else if (node_on_cad_edge(t[0]) && node_on_cad_edge(t[1]) && node_on_cad_edge(t[2]) &&
-               !on_cad_edge(a1, a2))
-        ++q.below_5_across_gaps;
+      const auto it = corner_at.find({t[k], m.bface_cad_face[f]});
+      if (it != corner_at.end() && it->second < 5) {
+        q.forcing_corner_min =
+            q.below_5_at_cad_corners ? std::min(q.forcing_corner_min, it->second) : it->second;
+        q.forcing_corner_max = std::max(q.forcing_corner_max, it->second);
+        ++q.below_5_at_cad_corners;
+      }
     }
     if (is_right_isosceles(a, b, c)) ++ri;
     ++q.triangles;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mesher/cad/cad_model.hpp"
 #include "mesher/surface_mesh.hpp"
 
 namespace hexfem {
@@ -17,20 +18,31 @@ bool is_right_isosceles(const Vec3& a, const Vec3& b, const Vec3& c);
 // The three angles of a triangle, in degrees.
 std::array<double, 3> triangle_angles(const Vec3& a, const Vec3& b, const Vec3& c);
 
+// A corner of a CAD face at a mesh node: the face's interior angle there, measured on the CAD
+// model (edge_points.hpp, face_corners).
+struct CadCorner {
+  int node = 0;
+  int face = 0;
+  double angle = 0;  // degrees
+};
+// The corners of every face of `cad` whose vertex is a node of `m` (at exactly its point).
+std::vector<CadCorner> cad_corners(const CadModel& cad, const MixedMesh& m);
+
 struct TriangleQuality {
   std::size_t triangles = 0;
   double min_angle = 180, max_angle = 0;  // degrees
   std::size_t below_5 = 0;                // triangles with an angle below 5°
-  // Of those, the ones whose smallest angle sits between two edges on CAD edges (a corner of
-  // a face sharper than 5° in the CAD model, which no triangulation of the face can avoid).
-  std::size_t below_5_at_sharp_corners = 0;
-  // Of the others, those whose three corners all lie on CAD edges with the short side a chord
-  // across the face (not on a CAD edge): the face is narrower there than any spacing of its
-  // edge points can follow (next to a tangent cusp, where two CAD edges meet at 0°).
-  std::size_t below_5_across_gaps = 0;
+  // Of those, the ones forced by the CAD model: their smallest angle is at a corner of their
+  // CAD face whose own angle is below 5° (the angles there of the face's triangles add up to
+  // the corner's, so one of them at least is that small).
+  std::size_t below_5_at_cad_corners = 0;
+  // The CAD corner angles behind those (degrees; 0 when there are none).
+  double forcing_corner_min = 0, forcing_corner_max = 0;
   double right_isosceles_share = 0;
 };
-TriangleQuality triangle_quality(const MixedMesh& mesh);
+// `corners`: the CAD corners at the mesh's nodes (cad_corners); without them no small angle
+// counts as forced.
+TriangleQuality triangle_quality(const MixedMesh& mesh, const std::vector<CadCorner>& corners = {});
 
 struct SolidCheck {
   int solid = 0;

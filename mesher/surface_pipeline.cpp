@@ -386,7 +386,7 @@ SurfaceMesh mesh_surface_once(const CadModel& cad, const SurfaceOptions& options
   drop_unused_nodes(out);
   rep.points = m.nodes.size();
   rep.triangles = m.num_bfaces();
-  rep.quality = triangle_quality(m);
+  rep.quality = triangle_quality(m, cad_corners(cad, m));
   rep.stage_seconds.emplace_back("assembly", seconds_since(t0));
   end_progress();
   return out;
