@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 #include <string>
 #include <unordered_map>
 
@@ -41,8 +42,8 @@ double cap_at(const Caps& caps, int e, double t) {
 }
 
 // Face corners sharper than kSharpCorner (degrees) get a corner zone (below) on both their
-// edges; those below kAcuteCorner are refined toward the vertex down to the narrow floor.
-constexpr double kSharpCorner = 5, kAcuteCorner = 5;
+// edges.
+constexpr double kSharpCorner = 5;
 // Across a sharp corner the points are spaced kWedgeSpacing times the width between its edges:
 // the triangles spanning the wedge keep angles near atan(1 / kWedgeSpacing), and the step from
 // the zone's long first segment to the next stays moderate (a ratio of 1 / (kWedgeSpacing *
@@ -115,7 +116,12 @@ std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size,
   for (int i = 1; i <= samples; ++i)
     integral[i] = integral[i - 1] + 0.5 * (dens[i] + dens[i - 1]) * (arc[i] - arc[i - 1]);
   const bool closed = cad.edge_closed(e);
-  const bool curved = max_kl > 1e-3;
+  // A curved edge gets two segments at least (one chord would be shared by both its faces as
+  // a fold), unless it is short against the size (a tenth): its sagitta is then nothing, and
+  // a midpoint would leave a flat sliver of a triangle in a face that small.
+  const auto ends = cad.edge_vertices(e);
+  const bool curved = max_kl > 1e-3 &&
+                      length > 0.1 * std::min(size.vertex_size(ends[0]), size.vertex_size(ends[1]));
   const int min_segments = closed ? 3 : (curved ? 2 : 1);
   const int zones = (z[0] > 0 ? 1 : 0) + (z[1] > 0 ? 1 : 0);
   const int n = std::max(
@@ -207,14 +213,81 @@ void build_points(const CadModel& cad, const SizeField& size, const Bounds& boun
   }
 }
 
+// A face corner meshed with a zone: sharper than kSharpCorner on the CAD model, or as seen
+// by the chords at the zone's size (an acute corner on a curved face whose edges close in,
+// e.g. 33° at the vertex and 3° a quarter millimetre away): its zone is then made small
+// enough that the corner triangle's angle is close to the CAD corner's.
+struct SharpCorner {
+  int face = 0, vertex = 0;
+  std::array<std::pair<int, int>, 2> ends;  // (edge, end at the corner: 0 = first, 1 = last)
+  double r0 = 0;                            // zone radius before the sizes met there
+};
+
+// The 3D angle at the corner between the chords to the points at arc length ~r on its edges.
+double chord_angle(const CadModel& cad, const SharpCorner& c, double r) {
+  const Vec3 x = cad.vertex_point(c.vertex);
+  Vec3 d[2];
+  for (int k = 0; k < 2; ++k) {
+    const auto [e, end] = c.ends[static_cast<std::size_t>(k)];
+    const Vec2 range = cad.edge_range(e);
+    const double t0 = range[static_cast<std::size_t>(end)];
+    const double speed = norm(cad.edge_derivative(e, t0));
+    const double dt = speed > 0 ? r / speed : 0.1 * (range[1] - range[0]);
+    const double t = std::clamp(t0 + (end == 0 ? dt : -dt), range[0], range[1]);
+    d[k] = v3::sub(cad.edge_point(e, t), x);
+  }
+  return std::atan2(norm(v3::cross(d[0], d[1])), v3::dot(d[0], d[1])) * 180 /
+         3.14159265358979323846;
+}
+
+std::vector<SharpCorner> sharp_corners(const CadModel& cad, const SizeField& size,
+                                       double narrow_floor) {
+  std::vector<SharpCorner> out;
+  for (int f = 1; f <= cad.num_faces(); ++f) {
+    if (cad.solids_of_face(f).empty()) continue;
+    const auto& ces = cad.coedges(f);
+    for (const FaceCorner& fc : face_corners(cad, f)) {
+      if (!(fc.angle < 90)) continue;  // NaN too
+      const CoEdge& in = ces[static_cast<std::size_t>(fc.in_coedge)];
+      const CoEdge& out_ce = ces[static_cast<std::size_t>(fc.out_coedge)];
+      if (in.edge == out_ce.edge) continue;
+      SharpCorner c;
+      c.face = f;
+      c.vertex = fc.vertex;
+      c.ends = {std::pair{in.edge, in.reversed ? 0 : 1},
+                std::pair{out_ce.edge, out_ce.reversed ? 1 : 0}};
+      double r = size.vertex_size(fc.vertex);
+      for (const auto& [e, end] : c.ends) {
+        const Vec2 range = cad.edge_range(e);
+        r = std::min({r, 0.45 * cad.edge_length(e),
+                      size.edge_size(e, range[static_cast<std::size_t>(end)], end)});
+      }
+      if (fc.angle >= kSharpCorner) {
+        if (chord_angle(cad, c, r) >= kSharpCorner) continue;  // an ordinary corner
+        const double enough = std::min(0.9 * fc.angle, kSharpCorner + 1);
+        while (r > narrow_floor && chord_angle(cad, c, r) < enough) r *= 0.5;
+      }
+      c.r0 = r;
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
 // Adds width samples for narrow faces: from each edge point of each face, a ray into the face
 // (normal to the boundary in the locally isometric parameter plane) to the first segment of
 // another edge; the 3D distance to the hit is the face's width there. Lowers target[node] to
 // the width, but not below `floor` across an ordinary corner (the rays of an acute corner hit
 // its other edge) nor below `narrow_floor` in a strip or across a sharp corner, whose
 // triangles need points about as close as the strip is wide.
-void narrow_face_sizes(const CadModel& cad, const EdgePoints& p, double floor, double narrow_floor,
+void narrow_face_sizes(const CadModel& cad, const EdgePoints& p,
+                       const std::vector<SharpCorner>& sharp, double floor, double narrow_floor,
                        std::vector<double>& target, std::vector<double>& across_sharp_corners) {
+  std::set<std::array<int, 3>> sharp_pair;  // (face, edge, edge)
+  for (const SharpCorner& c : sharp) {
+    sharp_pair.insert({c.face, c.ends[0].first, c.ends[1].first});
+    sharp_pair.insert({c.face, c.ends[1].first, c.ends[0].first});
+  }
   for (int f = 1; f <= cad.num_faces(); ++f) {
     if (cad.solids_of_face(f).empty()) continue;
     const FaceBoundary b = face_boundary(cad, f, p);
@@ -294,11 +367,13 @@ void narrow_face_sizes(const CadModel& cad, const EdgePoints& p, double floor, d
       if (!std::isfinite(best)) continue;
       const Vec3& px = p.xyz[static_cast<std::size_t>(node)];
       const auto c = corner.find({e, hit_edge});
-      const bool ordinary_corner = c != corner.end() && c->second >= kAcuteCorner;
-      const bool sharp_corner = c != corner.end() && c->second < kSharpCorner;
+      const bool sharp_corner = sharp_pair.count({f, e, hit_edge}) > 0;
+      const bool ordinary_corner = c != corner.end() && !sharp_corner;
       double& t = (sharp_corner ? across_sharp_corners : target)[static_cast<std::size_t>(node)];
       const double width = norm(v3::sub(hit, px)) * (sharp_corner ? kWedgeSpacing : 1.0);
-      t = std::min(t, std::max(width, ordinary_corner ? floor : narrow_floor));
+      t = std::min(t, std::max(width, ordinary_corner ? floor
+                                      : sharp_corner  ? 0.1 * narrow_floor
+                                                      : narrow_floor));
     }
   }
 }
@@ -321,48 +396,32 @@ void short_segment_sizes(const EdgePoints& p, double floor, std::vector<double>&
   }
 }
 
-// The corner zones of Bounds: at each face corner sharper than kSharpCorner, on both its
-// edges, the vertex's size, or less where an edge is short or finer near the vertex, and no
-// more than `other` (sizes at the points of `p` from every source but the widths across sharp
-// corners: a strip of another face, or of this one between other edges) within the zone.
-std::vector<std::array<double, 2>> corner_zones(const CadModel& cad, const SizeField& size,
+// The corner zones of Bounds: each sharp corner's radius on both its edges, no more than
+// `other` (sizes at the points of `p` from every source but the widths across sharp corners:
+// a strip of another face, or of this one between other edges) within the zone.
+std::vector<std::array<double, 2>> corner_zones(const CadModel& cad,
+                                                const std::vector<SharpCorner>& sharp,
                                                 const EdgePoints* p = nullptr,
                                                 const std::vector<double>* other = nullptr) {
   std::vector<std::array<double, 2>> zone(static_cast<std::size_t>(cad.num_edges()), {0, 0});
-  for (int f = 1; f <= cad.num_faces(); ++f) {
-    if (cad.solids_of_face(f).empty()) continue;
-    const auto& ces = cad.coedges(f);
-    for (const FaceCorner& c : face_corners(cad, f)) {
-      if (!(c.angle < kSharpCorner)) continue;  // NaN too
-      const CoEdge& in = ces[static_cast<std::size_t>(c.in_coedge)];
-      const CoEdge& out = ces[static_cast<std::size_t>(c.out_coedge)];
-      if (in.edge == out.edge) continue;
-      // (edge, which end is at the corner: 0 = first, 1 = last)
-      const std::array<std::pair<int, int>, 2> ends{std::pair{in.edge, in.reversed ? 0 : 1},
-                                                    std::pair{out.edge, out.reversed ? 1 : 0}};
-      double r0 = size.vertex_size(c.vertex);
-      for (const auto& [e, end] : ends) {
-        const Vec2 range = cad.edge_range(e);
-        r0 = std::min({r0, 0.45 * cad.edge_length(e),
-                       size.edge_size(e, range[static_cast<std::size_t>(end)], end)});
-      }
-      if (p && other) {
-        const Vec3 x = cad.vertex_point(c.vertex);
-        // Outward from the vertex along both edges while within the zone, which shrinks to
-        // the sizes met there.
-        for (const auto& [e, end] : ends) {
-          const auto& nodes = p->node[static_cast<std::size_t>(e - 1)];
-          for (std::size_t k = 0; k < nodes.size(); ++k) {
-            const auto n = static_cast<std::size_t>(nodes[end == 0 ? k : nodes.size() - 1 - k]);
-            if (norm(v3::sub(p->xyz[n], x)) > r0 && k > 0) break;
-            r0 = std::min(r0, (*other)[n]);
-          }
+  for (const SharpCorner& c : sharp) {
+    double r0 = c.r0;
+    if (p && other) {
+      const Vec3 x = cad.vertex_point(c.vertex);
+      // Outward from the vertex along both edges while within the zone, which shrinks to
+      // the sizes met there.
+      for (const auto& [e, end] : c.ends) {
+        const auto& nodes = p->node[static_cast<std::size_t>(e - 1)];
+        for (std::size_t k = 0; k < nodes.size(); ++k) {
+          const auto n = static_cast<std::size_t>(nodes[end == 0 ? k : nodes.size() - 1 - k]);
+          if (norm(v3::sub(p->xyz[n], x)) > r0 && k > 0) break;
+          r0 = std::min(r0, (*other)[n]);
         }
       }
-      for (const auto& [e, end] : ends) {
-        double& z = zone[static_cast<std::size_t>(e - 1)][static_cast<std::size_t>(end)];
-        z = z > 0 ? std::min(z, r0) : r0;
-      }
+    }
+    for (const auto& [e, end] : c.ends) {
+      double& z = zone[static_cast<std::size_t>(e - 1)][static_cast<std::size_t>(end)];
+      z = z > 0 ? std::min(z, r0) : r0;
     }
   }
   return zone;
@@ -579,12 +638,13 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
   EdgePoints p;
   Bounds bounds;
   bounds.caps.resize(density.size());
-  bounds.zone = corner_zones(cad, size);
   constexpr int kRounds = 8, kSizeRounds = 5;
   constexpr double kGradation = 0.5;
   // Narrow strips may ask for sizes far below the curvature floor (h / 20): a sliver of a face
   // 0.04 mm wide needs points about that close, whatever h is.
   const double narrow_floor = 0.3 * size.floor();
+  const std::vector<SharpCorner> sharp = sharp_corners(cad, size, narrow_floor);
+  bounds.zone = corner_zones(cad, sharp);
   for (int round = 0;; ++round) {
     build_points(cad, size, bounds, density, p);
     std::vector<bool> refine(density.size(), false);
@@ -639,12 +699,12 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
       }
     }
     std::vector<double> target = p.size;
-    narrow_face_sizes(cad, p, size.floor(), narrow_floor, other, target);
+    narrow_face_sizes(cad, p, sharp, size.floor(), narrow_floor, other, target);
     short_segment_sizes(p, size.floor(), target);
     for (std::size_t i = 0; i < target.size(); ++i) target[i] = std::min(target[i], other[i]);
     const std::vector<double> graded = graded_sizes(p.xyz, target, size.global(), kGradation);
     const std::vector<double> graded_other = graded_sizes(p.xyz, other, size.global(), kGradation);
-    const auto zone = corner_zones(cad, size, &p, &graded_other);
+    const auto zone = corner_zones(cad, sharp, &p, &graded_other);
     bool finer = false;
     for (std::size_t i = 0; i < graded.size(); ++i) finer = finer || graded[i] < 0.8 * p.size[i];
     if (finer && round < kSizeRounds) {
