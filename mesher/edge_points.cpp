@@ -240,7 +240,7 @@ double chord_angle(const CadModel& cad, const SharpCorner& c, double r) {
          3.14159265358979323846;
 }
 
-std::vector<SharpCorner> sharp_corners(const CadModel& cad, const SizeField& size,
+std::vector<SharpCorner> sharp_corners(const CadModel& cad, const SizeField& size, double floor,
                                        double narrow_floor) {
   std::vector<SharpCorner> out;
   for (int f = 1; f <= cad.num_faces(); ++f) {
@@ -263,7 +263,12 @@ std::vector<SharpCorner> sharp_corners(const CadModel& cad, const SizeField& siz
                       size.edge_size(e, range[static_cast<std::size_t>(end)], end)});
       }
       if (fc.angle >= kSharpCorner) {
-        if (chord_angle(cad, c, r) >= kSharpCorner) continue;  // an ordinary corner
+        // An ordinary corner unless the chords close in at some scale the edge points may
+        // take near it (down to the floor of the narrow-face sizes across a corner).
+        bool closes_in = false;
+        for (double rr = r; rr >= 0.5 * floor && !closes_in; rr *= 0.5)
+          closes_in = chord_angle(cad, c, rr) < kSharpCorner;
+        if (!closes_in) continue;
         const double enough = std::min(0.9 * fc.angle, kSharpCorner + 1);
         while (r > narrow_floor && chord_angle(cad, c, r) < enough) r *= 0.5;
       }
@@ -643,7 +648,7 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
   // Narrow strips may ask for sizes far below the curvature floor (h / 20): a sliver of a face
   // 0.04 mm wide needs points about that close, whatever h is.
   const double narrow_floor = 0.3 * size.floor();
-  const std::vector<SharpCorner> sharp = sharp_corners(cad, size, narrow_floor);
+  const std::vector<SharpCorner> sharp = sharp_corners(cad, size, size.floor(), narrow_floor);
   bounds.zone = corner_zones(cad, sharp);
   for (int round = 0;; ++round) {
     build_points(cad, size, bounds, density, p);
