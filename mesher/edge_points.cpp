@@ -231,10 +231,23 @@ double chord_angle(const CadModel& cad, const SharpCorner& c, double r) {
     const auto [e, end] = c.ends[static_cast<std::size_t>(k)];
     const Vec2 range = cad.edge_range(e);
     const double t0 = range[static_cast<std::size_t>(end)];
+    // March from the vertex until the chord is r long (the speed of the parametrisation at
+    // the vertex is a poor guess on some splines), then halve the last step.
     const double speed = norm(cad.edge_derivative(e, t0));
-    const double dt = speed > 0 ? r / speed : 0.1 * (range[1] - range[0]);
-    const double t = std::clamp(t0 + (end == 0 ? dt : -dt), range[0], range[1]);
-    d[k] = v3::sub(cad.edge_point(e, t), x);
+    const double step = (end == 0 ? 1 : -1) *
+                        std::min(speed > 0 ? r / speed / 4 : 1e300, 0.02 * (range[1] - range[0]));
+    auto chord = [&](double t) { return norm(v3::sub(cad.edge_point(e, t), x)); };
+    double lo = t0, hi = t0;
+    for (int i = 0; i < 400; ++i) {
+      hi = std::clamp(lo + step, range[0], range[1]);
+      if (chord(hi) >= r || hi == lo) break;
+      lo = hi;
+    }
+    for (int i = 0; i < 30; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (chord(mid) < r ? lo : hi) = mid;
+    }
+    d[k] = v3::sub(cad.edge_point(e, hi), x);
   }
   return std::atan2(norm(v3::cross(d[0], d[1])), v3::dot(d[0], d[1])) * 180 /
          3.14159265358979323846;
