@@ -104,7 +104,7 @@ std::vector<CadCorner> cad_corners(const CadModel& cad, const MixedMesh& m) {
   for (int f = 1; f <= cad.num_faces(); ++f) {
     for (const FaceCorner& c : face_corners(cad, f)) {
       const int n = node_of[static_cast<std::size_t>(c.vertex)];
-      if (!std::isnan(c.angle) && n >= 0) out.push_back({n, f, c.angle});
+      if (!std::isnan(c.angle) && n >= 0) out.push_back({n, f, c.vertex, c.angle});
     }
   }
   return out;

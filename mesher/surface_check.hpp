@@ -23,6 +23,7 @@ std::array<double, 3> triangle_angles(const Vec3& a, const Vec3& b, const Vec3& 
 struct CadCorner {
   int node = 0;
   int face = 0;
+  int vertex = 0;    // CAD vertex id
   double angle = 0;  // degrees
 };
 // The corners of every face of `cad` whose vertex is a node of `m` (at exactly its point).

@@ -1,5 +1,6 @@
 // Study of the surface mesher (issue 4): per model, one surface mesh and its checks.
-//   bench_surface [--div D | --h H | --points N] [--curvature C] [--repeat R] FILE...
+//   bench_surface [--div D | --h H | --points N] [--curvature C] [--repeat R] [--detail]
+//                 [--angles] [--corners A] FILE...
 // --div D: h = bounding-box diagonal / D (default 40); --h H: that h for every file;
 // --points N: h = sqrt(area / N) (a size giving about N points).
 // Prints a Markdown table row per file: points, triangles, area/h^2, right-isosceles share,
@@ -8,12 +9,15 @@
 // the curvature bound used (non-zero without --curvature: the mesh failed the checks and was
 // meshed again, its first attempt's time under "repair"), and the time per stage including
 // the checks (best of --repeat runs). A file that cannot be meshed gets its one-line error.
+// --angles: on stderr, the triangles below 5°, those forced by a CAD face corner below 5°
+// grouped by corner. --corners A: the CAD face corners below A° and the mesh's angles there.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -30,7 +34,8 @@ struct Args {
   double div = 40, h = 0, points = 0;
   int curvature = 0, repeat = 1;
   bool detail = false;
-  double corners = 0;  // list the CAD face corners sharper than this (degrees)
+  bool angles = false;  // list the triangles below 5°: forced ones by CAD corner, the others
+  double corners = 0;   // list the CAD face corners sharper than this (degrees)
   std::vector<std::string> files;
 };
 
@@ -55,6 +60,8 @@ Args parse(int argc, char** argv) {
       a.curvature = static_cast<int>(value());
     else if (s == "--corners")
       a.corners = value();
+    else if (s == "--angles")
+      a.angles = true;
     else if (s == "--detail")
       a.detail = true;
     else if (s == "--repeat")
@@ -68,6 +75,44 @@ Args parse(int argc, char** argv) {
 std::string base_name(const std::string& p) {
   const auto k = p.find_last_of('/');
   return k == std::string::npos ? p : p.substr(k + 1);
+}
+
+// On stderr, one line per CAD corner below 5° that forces triangles below 5° (how many, the
+// smallest), then one line per other triangle below 5°.
+void print_small_angles(const std::string& name, const CadModel& cad, const SurfaceMesh& s) {
+  const MixedMesh& m = s.mesh;
+  std::map<std::pair<int, int>, const CadCorner*> corner_at;  // (node, face)
+  const auto corners = cad_corners(cad, m);
+  for (const CadCorner& c : corners) {
+    auto& slot = corner_at[{c.node, c.face}];
+    if (!slot || c.angle < slot->angle) slot = &c;
+  }
+  std::map<const CadCorner*, std::pair<int, double>> forced;  // count, smallest
+  for (std::size_t t = 0; t < m.num_bfaces(); ++t) {
+    const auto* n = m.bface(t);
+    const auto ang = triangle_angles(m.nodes[static_cast<std::size_t>(n[0])],
+                                     m.nodes[static_cast<std::size_t>(n[1])],
+                                     m.nodes[static_cast<std::size_t>(n[2])]);
+    const int k = static_cast<int>(std::min_element(ang.begin(), ang.end()) - ang.begin());
+    if (ang[static_cast<std::size_t>(k)] >= 5) continue;
+    const auto it = corner_at.find({n[k], m.bface_cad_face[t]});
+    if (it != corner_at.end() && it->second->angle < 5) {
+      auto& [count, lo] = forced.try_emplace(it->second, 0, 180.0).first->second;
+      ++count;
+      lo = std::min(lo, ang[static_cast<std::size_t>(k)]);
+      continue;
+    }
+    const Vec3& p = m.nodes[static_cast<std::size_t>(n[k])];
+    std::fprintf(stderr, "  %s: not forced: CAD face %d, %.2f° at (%.6g, %.6g, %.6g)\n",
+                 name.c_str(), m.bface_cad_face[t], ang[static_cast<std::size_t>(k)], p[0], p[1],
+                 p[2]);
+  }
+  for (const auto& [c, f] : forced)
+    std::fprintf(
+        stderr,
+        "  %s: forced: CAD face %d corner at vertex %d (%.3f° on the CAD): %d triangle(s), "
+        "smallest %.2f°\n",
+        name.c_str(), c->face, c->vertex, c->angle, f.first, f.second);
 }
 
 }  // namespace
@@ -180,6 +225,7 @@ int main(int argc, char** argv) {
               cad.edge_length(cad.coedges(f)[static_cast<std::size_t>(c.out_coedge)].edge));
         }
       }
+      if (a.angles) print_small_angles(name, cad, mesh);
       if (a.detail)
         for (const auto& d : surface_defects(mesh))
           std::fprintf(stderr, "  %s: %s\n", name.c_str(), d.c_str());
