@@ -127,7 +127,7 @@ int run(const Args& a) {
   }
   const Units shown = cad_input ? Units{"mm", 1e-3} : units;
   std::vector<std::string> warnings =
-      cad_input ? std::vector<std::string>{} : unit_warnings(mesh, units);
+      cad_input ? part.mesh_report.warnings : unit_warnings(mesh, units);
   std::vector<std::size_t> fixed_nodes;
   for (const std::string& spec : a.fix)
     fixed_nodes.push_back(select_fixed_nodes(mesh, spec).nodes.size());

@@ -39,6 +39,8 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
               report.file_unit.c_str());
   std::printf("%s", mesh_report_text(report).c_str());
   if (!a.output.empty()) std::printf("wrote %s (%.3f s)\n", a.output.c_str(), write_seconds);
+  for (const std::string& w : report.warnings)
+    std::fprintf(stderr, "hexfem: warning: %s\n", w.c_str());
   return 0;
 }
 

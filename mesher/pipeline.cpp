@@ -12,6 +12,9 @@
 namespace hexfem {
 
 namespace {
+// |mesh - CAD| / CAD volume above which the user is warned.
+constexpr double kVolumeErrorWarning = 0.02;
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -55,6 +58,16 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
                 " open boundary edges); nothing written - try another --h");
   r.mesh_volume = stats.volume;
   r.volume_error = r.cad_volume > 0 ? (r.mesh_volume - r.cad_volume) / r.cad_volume : 0;
+  // Chords across thin or strongly curved features cut volume off at a coarse h: legitimate,
+  // but a user expecting the part's mass must hear of it.
+  if (std::abs(r.volume_error) > kVolumeErrorWarning) {
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "the mesh volume is %+.1f %% off the CAD volume: h = %g is coarse for this "
+                  "part's thin or curved features (a smaller --h or --curvature N helps)",
+                  100 * r.volume_error, h);
+    r.warnings.push_back(buf);
+  }
   r.total_seconds = seconds_since(t0) + r.cad_seconds;
   return mesh;
 }
@@ -77,6 +90,7 @@ nlohmann::json mesh_report_json(const MeshReport& r) {
   j["cad_volume"] = r.cad_volume;
   j["mesh_volume"] = r.mesh_volume;
   j["volume_error"] = r.volume_error;
+  j["warnings"] = r.warnings;
   j["surface_points"] = r.surface.points;
   j["surface_triangles"] = r.surface.triangles;
   nlohmann::json stages = nlohmann::json::array();

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 #include <string>
+#include <vector>
 
 #include "mesher/cad/cad_model.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
@@ -28,6 +29,8 @@ struct MeshReport {
   SurfaceReport surface;
   VolumeReport volume;
   double total_seconds = 0;
+  // Things the user should know about a mesh that is valid (e.g. a volume far off the CAD's).
+  std::vector<std::string> warnings;
 };
 
 // Hex-dominant mesh of every solid of the part. Throws hexfem::Error (one line) on bad options,

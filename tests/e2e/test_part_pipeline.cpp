@@ -101,5 +101,28 @@ TEST(PartPipeline, BadInputIsReported) {
   EXPECT_NE(error_of([&] { mesh_part(cad, huge); }).find("--force"), std::string::npos);
 }
 
+// A coarse h cuts volume off a curved part (chords); the user is told by how much. The
+// cylinder of tests/data: radius 6.7524 mm, length 42.5 mm (its bounding box), V = pi r^2 L.
+TEST(PartPipeline, VolumeFarOffTheCadIsAWarning) {
+  const CadModel cad = CadModel::read(std::string(HEXFEM_TEST_DATA) + "/cylinder.stp");
+  const double exact = M_PI * 6.7524 * 6.7524 * 42.5;
+  MeshOptions coarse;
+  coarse.surface.h = 5.0;
+  MeshReport r;
+  mesh_part(cad, coarse, &r);
+  const double error = (r.stats.volume - exact) / exact;
+  ASSERT_GT(std::abs(error), 0.02);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  char pct[32];
+  std::snprintf(pct, sizeof pct, "%+.1f %%", 100 * error);
+  EXPECT_NE(r.warnings[0].find(pct), std::string::npos) << r.warnings[0];
+  MeshOptions fine;
+  fine.surface.h = 1.0;
+  MeshReport rf;
+  mesh_part(cad, fine, &rf);
+  EXPECT_LT(std::abs(rf.stats.volume - exact) / exact, 0.02);
+  EXPECT_TRUE(rf.warnings.empty());
+}
+
 }  // namespace
 }  // namespace hexfem
