@@ -275,7 +275,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
     check_each_tet_used_once(tets.tets.size(), elements, gone, used);
   }
   MixedMesh mesh = assemble(surface, topo, elements, used, flips);
-  r.lifted_cells = lift_flat_cells(mesh, topo.num_surface_nodes(), kFlatTetQuality);
+  r.lifted_cells = lift_slivers(mesh, topo.num_surface_nodes(), options.flat_tet_quality);
   timer.stage("assembly + NC");
 
   for (std::size_t t = 0; t < tets.tets.size(); ++t) r.volume_tets += topo.tet_volume(t);
@@ -380,7 +380,7 @@ std::string volume_report_text(const VolumeReport& r) {
       "dropped",
       r.sliver_flips, r.flipped_tets, r.tets_from_flips, r.slivers_left, r.flat_boundary_tets);
   if (r.lifted_cells)
-    line("lifted          %zu flat cells by moving one interior vertex each", r.lifted_cells);
+    line("lifted          %zu slivers by moving one interior vertex each", r.lifted_cells);
   line("elements        %zu: hex %zu, prism %zu, pyramid %zu, tet %zu", r.num_cells,
        r.cells[static_cast<int>(CellKind::Hex8)], r.cells[static_cast<int>(CellKind::Wedge6)],
        r.cells[static_cast<int>(CellKind::Pyramid5)], r.cells[static_cast<int>(CellKind::Tet4)]);

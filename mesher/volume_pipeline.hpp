@@ -49,7 +49,7 @@ struct VolumeReport {
   // Flat tets on the surface dropped right after TetGen (volume_slivers.hpp): TetGen's tets =
   // these + tets in elements + absorbed slivers + flipped tets + tets left.
   std::size_t flat_boundary_tets = 0;
-  // Cells still flat at the end, lifted by moving one interior vertex (lift_flat_cells).
+  // Slivers left at the end, improved by moving one interior vertex (lift_slivers).
   std::size_t lifted_cells = 0;
   std::size_t dissolved_pyramids = 0;  // pyramids (and prisms) by slivers turned back into tets
   std::array<std::size_t, kNumCellKinds> cells{};  // by CellKind

@@ -308,12 +308,18 @@ double cell_score(const MixedMesh& mesh, std::size_t c) {
 
 }  // namespace
 
-std::size_t lift_flat_cells(MixedMesh& mesh, std::size_t num_fixed_nodes, double min_sj) {
+std::size_t lift_slivers(MixedMesh& mesh, std::size_t num_fixed_nodes, double below) {
   const std::size_t nc = mesh.num_cells();
-  std::vector<std::size_t> flat;
-  for (std::size_t c = 0; c < nc; ++c)
-    if (cell_score(mesh, c) < kDegenerateScaledJacobian) flat.push_back(c);
-  if (flat.empty()) return 0;
+  std::vector<std::size_t> bad;
+  std::vector<double> floor(nc);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const double s = cell_score(mesh, c);
+    const CellKind k = mesh.cell_kind[c];
+    const double kind_floor = k == CellKind::Tet4 ? -1.0 : k == CellKind::Pyramid5 ? 0.05 : 0.3;
+    floor[c] = std::min(s, kind_floor);
+    if (s < below) bad.push_back(c);
+  }
+  if (bad.empty()) return 0;
   // Cells at each node (CSR).
   std::vector<std::int32_t> off(mesh.nodes.size() + 1, 0), star;
   for (std::size_t c = 0; c < nc; ++c)
@@ -326,14 +332,19 @@ std::size_t lift_flat_cells(MixedMesh& mesh, std::size_t num_fixed_nodes, double
       for (int i = 0; i < num_nodes(mesh.cell_kind[c]); ++i)
         star[fill[mesh.cell(c)[i]]++] = static_cast<std::int32_t>(c);
   }
+  // The worst cell at p, or -2 when a hex, prism or pyramid would fall below its floor.
   auto star_score = [&](std::int32_t p) {
     double s = 1;
-    for (std::int32_t k = off[p]; k < off[p + 1]; ++k) s = std::min(s, cell_score(mesh, star[k]));
+    for (std::int32_t k = off[p]; k < off[p + 1]; ++k) {
+      const double q = cell_score(mesh, star[k]);
+      if (mesh.cell_kind[star[k]] != CellKind::Tet4 && q < floor[star[k]]) return -2.0;
+      s = std::min(s, q);
+    }
     return s;
   };
   std::size_t lifted = 0;
-  for (std::size_t c : flat) {
-    if (cell_score(mesh, c) >= kDegenerateScaledJacobian) continue;  // an earlier move fixed it
+  for (std::size_t c : bad) {
+    if (cell_score(mesh, c) >= below) continue;  // an earlier move fixed it
     const int n = num_nodes(mesh.cell_kind[c]);
     const std::int32_t* cn = mesh.cell(c);
     double edge = 0;
@@ -350,19 +361,20 @@ std::size_t lift_flat_cells(MixedMesh& mesh, std::size_t num_fixed_nodes, double
     }
     std::int32_t best_node = -1;
     Vec3 best_pos{};
-    double best = min_sj;
+    double gain = 0;  // best rise of the worst cell at the moved vertex
     for (int i = 0; i < n; ++i) {
       const std::int32_t p = cn[i];
       if (static_cast<std::size_t>(p) < num_fixed_nodes) continue;
       const Vec3 x0 = mesh.nodes[p];
+      const double now = star_score(p);
       for (double step : {0.02, 0.05, 0.1, 0.2})
         for (const Vec3& d : dirs)
           for (double sign : {1.0, -1.0}) {
             const Vec3 move = v3::scaled(d, sign * step * edge);
             mesh.nodes[p] = {x0[0] + move[0], x0[1] + move[1], x0[2] + move[2]};
             const double s = star_score(p);
-            if (s > best) {
-              best = s;
+            if (s - now > gain) {
+              gain = s - now;
               best_node = p;
               best_pos = mesh.nodes[p];
             }

@@ -37,12 +37,13 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
 // and can be re-triangulated with a better minimum (shells of up to 7 tets). Deterministic.
 SliverFlips flip_slivers(const TetTopology& topo, std::vector<char>& used, double flat_sj);
 
-// Last resort for a cell still flat (or inverted) after all of the above, e.g. a sliver whose
-// shells are not free: one of its interior vertices (index >= num_fixed_nodes; the surface
-// nodes come first and stay on the CAD) is moved a little, to the trial position (steps of 2 to
-// 20 % of the cell's mean edge, along the axes and the normals of the cell's corners) that gives
-// the best min scaled Jacobian over every cell at that vertex, when that best is at least
-// min_sj. Returns how many cells were lifted.
-std::size_t lift_flat_cells(MixedMesh& mesh, std::size_t num_fixed_nodes, double min_sj);
+// Last resort for slivers left after the flips (their shells are not free, or no flip helps):
+// for each cell with a min scaled Jacobian below `below`, one of its interior vertices (index >=
+// num_fixed_nodes; the surface nodes come first and stay on the CAD) is moved a little, to the
+// trial position (steps of 2 to 20 % of the cell's mean edge, along the axes and the normals of
+// the cell's corners) that most raises the worst cell at that vertex. A hex or prism there stays
+// at or above min(its own, 0.3), a pyramid min(its own, 0.05): the recombination's bounds.
+// Returns how many cells were improved.
+std::size_t lift_slivers(MixedMesh& mesh, std::size_t num_fixed_nodes, double below);
 
 }  // namespace hexfem

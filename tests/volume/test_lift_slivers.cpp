@@ -1,5 +1,5 @@
-// lift_flat_cells: a flat cell left at the end is made valid by moving one interior vertex, and
-// only interior vertices move.
+// lift_slivers: a flat or sliver cell left at the end is improved by moving one interior
+// vertex, and only interior vertices move.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -44,19 +44,32 @@ double min_sj(const MixedMesh& m) {
   return s;
 }
 
-TEST(LiftFlatCells, InteriorVertexNearAFaceIsMovedInside) {
+TEST(LiftSlivers, FlatCellNearAFaceIsMovedInside) {
   MixedMesh m = cube_cone({0.3, 0.3, 1e-9});  // the two tets over the face z = 0 are flat
   ASSERT_LT(min_sj(m), kDegenerateScaledJacobian);
   const auto corners = std::vector<Vec3>(m.nodes.begin(), m.nodes.begin() + 8);
-  EXPECT_GE(lift_flat_cells(m, 8, 1e-3), 1u);
-  EXPECT_GE(min_sj(m), 1e-3);
+  EXPECT_GE(lift_slivers(m, 8, 0.02), 1u);
+  EXPECT_GE(min_sj(m), 0.02);
   EXPECT_EQ(std::vector<Vec3>(m.nodes.begin(), m.nodes.begin() + 8), corners);
 }
 
-TEST(LiftFlatCells, FixedVerticesNeverMove) {
+TEST(LiftSlivers, ASliverIsRaisedAndGoodCellsAreLeftAlone) {
+  MixedMesh m = cube_cone({0.3, 0.3, 0.004});
+  const double before = min_sj(m);
+  ASSERT_GT(before, kDegenerateScaledJacobian);
+  ASSERT_LT(before, 0.02);
+  EXPECT_GE(lift_slivers(m, 8, 0.02), 1u);
+  EXPECT_GT(min_sj(m), 2 * before);
+  MixedMesh good = cube_cone({0.5, 0.5, 0.5});  // nothing below the bound: nothing moves
+  const auto nodes = good.nodes;
+  EXPECT_EQ(lift_slivers(good, 8, 0.02), 0u);
+  EXPECT_EQ(good.nodes, nodes);
+}
+
+TEST(LiftSlivers, FixedVerticesNeverMove) {
   MixedMesh m = cube_cone({0.3, 0.3, 1e-9});
   const auto before = m.nodes;
-  EXPECT_EQ(lift_flat_cells(m, 9, 1e-3), 0u);  // node 8 counts as a surface node here
+  EXPECT_EQ(lift_slivers(m, 9, 0.02), 0u);  // node 8 counts as a surface node here
   EXPECT_EQ(m.nodes, before);
 }
 
