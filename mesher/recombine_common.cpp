@@ -1,6 +1,7 @@
 #include "mesher/recombine_common.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -69,6 +70,20 @@ TetTopology::TetTopology(const TetMesh& tets, const SurfaceMesh& surface) : mesh
     for (std::size_t t = 0; t < nt; ++t)
       for (std::int32_t v : tets.tets[t]) star_[fill[v]++] = static_cast<std::int32_t>(t);
   }
+  upper_off_.assign(nv + 1, 0);
+  for (const auto& T : tets.tets) ++upper_off_[*std::min_element(T.begin(), T.end()) + 1];
+  for (std::size_t v = 0; v < nv; ++v) upper_off_[v + 1] += upper_off_[v];
+  upper_.resize(nt);
+  {
+    std::vector<std::int32_t> fill(upper_off_.begin(), upper_off_.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t) {
+      const auto& T = tets.tets[t];
+      const int lo = static_cast<int>(std::min_element(T.begin(), T.end()) - T.begin());
+      UpperTet& u = upper_[fill[T[lo]]++];
+      u.tet = static_cast<std::int32_t>(t);
+      for (int k = 1; k < 4; ++k) u.v[k - 1] = T[(lo + k) % 4];
+    }
+  }
   // Neighbours: the other vertices of the star, sorted and unique.
   adj_off_.assign(nv + 1, 0);
   std::vector<std::int32_t> tmp;
@@ -102,8 +117,8 @@ bool TetTopology::adjacent(std::int32_t a, std::int32_t b) const {
 }
 
 std::int32_t TetTopology::surface_triangle(std::int32_t a, std::int32_t b, std::int32_t c) const {
-  auto it = surface_tri_.find(tri_key(a, b, c));
-  return it == surface_tri_.end() ? -1 : it->second;
+  const std::int32_t* t = surface_tri_.find(tri_key(a, b, c));
+  return t ? *t : -1;
 }
 
 int face_sliver_of(CellKind kind, const std::int32_t* nodes, const std::array<std::int32_t, 4>& T) {
@@ -144,30 +159,43 @@ bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char
     face_mask[f] = 0;
     for (int i = 0; i < cf.face[f].n; ++i) face_mask[f] |= 1u << cf.face[f].v[i];
   }
-  // The tets with all vertices among the nodes: any 4 of the nodes include one of the first
-  // nn - 3, so those nodes' stars hold them all; each is taken from its lowest local corner.
+  // The tets with all vertices among the nodes: each is listed once, by its lowest vertex, which
+  // is at most the fourth highest node.
+  std::int32_t sorted_ids[8];
+  std::copy(nodes, nodes + nn, sorted_ids);
+  std::sort(sorted_ids, sorted_ids + nn);
+  const std::int32_t lowest_max = sorted_ids[nn - 4];
   std::int32_t ts[8];
   unsigned tmask[8];
+  int low[8];  // lowest local corner of each tet: they are listed by it, then by index
   int n = 0;
-  for (int i = 0; i < nn - 3; ++i) {
-    for (auto it = topo.star_begin(nodes[i]); it != topo.star_end(nodes[i]); ++it) {
-      const auto& T = m.tets[*it];
-      unsigned mask = 0;
+  for (int i = 0; i < nn; ++i) {
+    if (nodes[i] > lowest_max) continue;
+    for (auto u = topo.upper_begin(nodes[i]); u != topo.upper_end(nodes[i]); ++u) {
+      unsigned mask = 1u << i;
       bool inside = true;
-      for (int k = 0; k < 4 && inside; ++k) {
-        const int l = local(T[k]);
+      for (int k = 0; k < 3 && inside; ++k) {
+        const int l = local(u->v[k]);
         inside = l >= 0;
         if (inside) mask |= 1u << l;
       }
-      if (!inside || (mask & ((1u << i) - 1))) continue;
+      if (!inside) continue;
       // A flat tet spanning the four corners of a quad face lies on the face, between its two
       // diagonals (a sliver of a near-planar face): not part of the element.
       bool sliver = false;
       for (int f = 0; f < cf.count; ++f) sliver = sliver || mask == face_mask[f];
       if (sliver) continue;
       if (n == 7) return false;
-      tmask[n] = mask;
-      ts[n++] = *it;
+      int j = n++;
+      const int lo = std::countr_zero(mask);
+      for (; j > 0 && (low[j - 1] > lo || (low[j - 1] == lo && ts[j - 1] > u->tet)); --j) {
+        ts[j] = ts[j - 1];
+        tmask[j] = tmask[j - 1];
+        low[j] = low[j - 1];
+      }
+      ts[j] = u->tet;
+      tmask[j] = mask;
+      low[j] = lo;
     }
   }
   const int min_tets = c.kind == CellKind::Hex8 ? 5 : c.kind == CellKind::Wedge6 ? 3 : 2;
@@ -302,19 +330,19 @@ bool ConformityIndex::conflicts(const Candidate& c) const {
   for_each_face(c, [&](const std::int32_t* q, int n) {
     if (bad) return;
     if (n == 3) {
-      bad = quad_of_triple_.count(tri_key(q[0], q[1], q[2])) > 0;
+      bad = quad_of_triple_.contains(tri_key(q[0], q[1], q[2]));
       return;
     }
     for (int skip = 0; skip < 4 && !bad; ++skip) {
       const TriKey t = quad_triple(q, skip);
-      auto it = quad_of_triple_.find(t);
-      bad = (it != quad_of_triple_.end() && it->second != q[skip]) || triangle_faces_.count(t);
+      const std::int32_t* fourth = quad_of_triple_.find(t);
+      bad = (fourth && *fourth != q[skip]) || triangle_faces_.contains(t);
     }
-    bad = bad || edges_.count(edge_key(q[0], q[2])) || edges_.count(edge_key(q[1], q[3]));
+    bad = bad || edges_.contains(edge_key(q[0], q[2])) || edges_.contains(edge_key(q[1], q[3]));
   });
   const EdgeList el = edges_of(c.kind);
   for (int e = 0; e < el.count && !bad; ++e)
-    bad = diagonals_.count(edge_key(c.nodes[el.e[e][0]], c.nodes[el.e[e][1]])) > 0;
+    bad = diagonals_.contains(edge_key(c.nodes[el.e[e][0]], c.nodes[el.e[e][1]]));
   return bad;
 }
 
@@ -347,45 +375,53 @@ void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScrat
     const double bb = eb[0] * eb[0] + eb[1] * eb[1] + eb[2] * eb[2];
     return cc >= min_sin * min_sin * aa * bb;
   };
-  auto add = [&](std::int32_t a, std::int32_t x, std::int32_t b) {
-    if (a > b) std::swap(a, b);
-    if (corner_ok(a, b)) q.push_back({a, b, x});
-  };
+  // Ordered pairs (a, b) of vertices above v sharing a tet with v (the edges of v's link, both
+  // ways round), sorted.
+  auto& pairs = scratch.pairs;
+  pairs.clear();
   for (auto it = topo.star_begin(v); it != topo.star_end(v); ++it) {
-    const auto& T = m.tets[*it];
-    std::int32_t o[3];
+    std::int32_t up[3];
     int n = 0;
-    for (std::int32_t w : T)
-      if (w != v) o[n++] = w;
-    for (int i = 0; i < 3; ++i) {
-      // (1) Split along a-b: triangle (v, a, b) of this tet and (a, x, b) of any tet around a-b.
-      const std::int32_t a = o[i], b = o[(i + 1) % 3];
-      if (a < v || b < v) continue;
-      for (auto jt = topo.star_begin(a); jt != topo.star_end(a); ++jt) {
-        const auto& U = m.tets[*jt];
-        if (U[0] != b && U[1] != b && U[2] != b && U[3] != b) continue;
-        for (std::int32_t x : U)
-          if (x != a && x != b && x > v) add(a, x, b);
+    for (std::int32_t w : m.tets[*it])
+      if (w > v) up[n++] = w;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (i != j) pairs.push_back({up[i], up[j]});
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  for (std::size_t i = 0; i < pairs.size();) {
+    const std::int32_t a = pairs[i].first;
+    std::size_t end = i;
+    while (end < pairs.size() && pairs[end].first == a) ++end;
+    // (1) Split along a-b: triangle (v, a, b) and (a, x, b) of any tet around edge a-b.
+    for (std::size_t k = i; k < end; ++k) {
+      const std::int32_t b = pairs[k].second;
+      if (b < a || !corner_ok(a, b)) continue;
+      // The tets around a-b: the stars of a and b are sorted, they share exactly those.
+      const std::int32_t *s = topo.star_begin(a), *se = topo.star_end(a);
+      const std::int32_t *t = topo.star_begin(b), *te = topo.star_end(b);
+      while (s != se && t != te) {
+        if (*s < *t) {
+          ++s;
+        } else if (*t < *s) {
+          ++t;
+        } else {
+          for (std::int32_t x : m.tets[*s])
+            if (x != a && x != b && x > v) q.push_back({a, b, x});
+          ++s;
+          ++t;
+        }
       }
     }
-  }
-  // (2) Split along v-x: triangles (v, a, x) and (v, x, b), a and b around edge v-x.
-  auto& link = scratch.list;
-  for (const std::int32_t* xi =
-           std::upper_bound(topo.neighbours_begin(v), topo.neighbours_end(v), v);
-       xi != topo.neighbours_end(v); ++xi) {
-    const std::int32_t x = *xi;
-    link.clear();
-    for (auto it = topo.star_begin(v); it != topo.star_end(v); ++it) {
-      const auto& T = m.tets[*it];
-      if (T[0] != x && T[1] != x && T[2] != x && T[3] != x) continue;
-      for (std::int32_t w : T)
-        if (w != v && w != x && w > v) link.push_back(w);
-    }
-    std::sort(link.begin(), link.end());
-    link.erase(std::unique(link.begin(), link.end()), link.end());
-    for (std::size_t i = 0; i < link.size(); ++i)
-      for (std::size_t j = i + 1; j < link.size(); ++j) add(link[i], x, link[j]);
+    // (2) Split along v-x with x = a: triangles (v, b, a) and (v, a, c), b and c around edge
+    // v-a (a's partners, sorted).
+    for (std::size_t j = i; j < end; ++j)
+      for (std::size_t k = j + 1; k < end; ++k) {
+        const std::int32_t b = pairs[j].second, c = pairs[k].second;
+        if (corner_ok(b, c)) q.push_back({b, c, a});
+      }
+    i = end;
   }
   std::sort(q.begin(), q.end());
   q.erase(std::unique(q.begin(), q.end()), q.end());
@@ -403,16 +439,25 @@ std::pair<const CornerQuad*, const CornerQuad*> quads_between(const FillScratch&
 
 std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find) {
   std::vector<Candidate> all;
+  std::vector<std::size_t> runs{0};  // each thread's candidates, sorted, then merged
 #pragma omp parallel
   {
     std::vector<Candidate> local;
     FillScratch scratch;
 #pragma omp for schedule(dynamic, 256) nowait
     for (std::int32_t v = 0; v < num_vertices; ++v) find(v, scratch, local);
+    std::sort(local.begin(), local.end());
 #pragma omp critical
-    all.insert(all.end(), local.begin(), local.end());
+    {
+      all.insert(all.end(), local.begin(), local.end());
+      runs.push_back(all.size());
+    }
   }
-  std::sort(all.begin(), all.end());
+  // Candidates are distinct and totally ordered: the merged order does not depend on which
+  // thread found what.
+  for (std::size_t r = 2; r < runs.size(); ++r)
+    std::inplace_merge(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(runs[r - 1]),
+                       all.begin() + static_cast<std::ptrdiff_t>(runs[r]));
   return all;
 }
 
@@ -459,20 +504,24 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
       if (lf.n != 4) continue;
       const QuadKey k = quad_key(e, f);
       const bool shared = quad_shared(quads, k);
-      for (auto it = topo.star_begin(k[0]); it != topo.star_end(k[0]); ++it) {
-        const auto& T = topo.mesh().tets[*it];
-        if (used[*it] || face_sliver_of(e.kind, e.nodes.data(), T) != f) continue;
+      // A tet on the face's four corners has the lowest of them as its lowest vertex.
+      for (auto u = topo.upper_begin(k[0]); u != topo.upper_end(k[0]); ++u) {
+        std::int32_t o[3] = {u->v[0], u->v[1], u->v[2]};
+        std::sort(o, o + 3);
+        if (o[0] != k[1] || o[1] != k[2] || o[2] != k[3] || used[u->tet]) continue;
+        const std::int32_t t = u->tet;
+        const auto& T = topo.mesh().tets[t];
         if (policy == SliverPolicy::kSharedOrBoundary) {
           int on_surface = 0;
           for (int skip = 0; skip < 4; ++skip)
             on_surface +=
                 topo.surface_triangle(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]) >= 0;
           if (!shared && on_surface < 2) continue;
-        } else if (!(tet_quality(topo, *it) < flat_sj)) {
+        } else if (!(tet_quality(topo, t) < flat_sj)) {
           continue;
         }
-        used[*it] = 1;
-        out.push_back(*it);
+        used[t] = 1;
+        out.push_back(t);
       }
     }
   }
@@ -510,34 +559,26 @@ std::size_t release_orphan_slivers(const TetTopology& topo, const std::vector<Ca
 std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candidate>& cands,
                                       std::vector<char>& used, ConformityIndex& index,
                                       const FillRules& rules) {
-  std::sort(cands.begin(), cands.end());
-  // Free tets around each vertex: a candidate with a corner whose tets are all taken cannot be
-  // filled, and most candidates are rejected by this before any search.
-  const TetMesh& m = topo.mesh();
-  std::vector<std::int32_t> free_around(m.nodes.size(), 0);
-  for (std::size_t t = 0; t < m.tets.size(); ++t)
-    if (!used[t])
-      for (std::int32_t v : m.tets[t]) ++free_around[v];
-  FillScratch scratch;
+  if (!std::is_sorted(cands.begin(), cands.end())) std::sort(cands.begin(), cands.end());
+  // The fill test, with the tets taken so far (they stay taken), on all threads.
+  std::vector<char> fillable(cands.size(), 1);
+  const auto num_cands = static_cast<std::ptrdiff_t>(cands.size());
+#pragma omp parallel
+  {
+    FillScratch scratch;
+#pragma omp for schedule(dynamic, 4096)
+    for (std::ptrdiff_t i = 0; i < num_cands; ++i)
+      if (cands[i].tets[0] < 0) fillable[i] = fills_element(topo, cands[i], &used, rules, scratch);
+  }
   std::vector<Candidate> kept;
-  for (Candidate& c : cands) {
-    const int nn = num_nodes(c.kind);
-    bool possible = true;
-    for (int i = 0; i < nn && possible; ++i) possible = free_around[c.nodes[i]] > 0;
-    if (!possible) continue;
-    if (c.tets[0] < 0) {
-      if (!fills_element(topo, c, &used, rules, scratch)) continue;
-    } else {
-      bool free = true;
-      for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
-      if (!free) continue;
-    }
-    if (index.conflicts(c)) continue;
-    for (std::int32_t t : c.tets) {
-      if (t < 0) continue;
-      used[t] = 1;
-      for (std::int32_t v : m.tets[t]) --free_around[v];
-    }
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    const Candidate& c = cands[i];
+    if (!fillable[i]) continue;
+    bool free = true;
+    for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
+    if (!free || index.conflicts(c)) continue;
+    for (std::int32_t t : c.tets)
+      if (t >= 0) used[t] = 1;
     index.add(c);
     kept.push_back(c);
   }

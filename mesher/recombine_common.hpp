@@ -7,11 +7,10 @@
 #include <array>
 #include <cstdint>
 #include <functional>
-#include <unordered_map>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
+#include "mesher/open_hash.hpp"
 #include "mesher/surface_mesh.hpp"
 #include "mesher/tetrahedralize.hpp"
 
@@ -30,9 +29,10 @@ struct TriKeyHash {
     std::uint64_t h = static_cast<std::uint32_t>(k.v[0]);
     h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.v[1]);
     h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.v[2]);
-    return static_cast<std::size_t>(h ^ (h >> 29));
+    return static_cast<std::size_t>(mix64(h));
   }
 };
+using TriKeyMap = OpenHashMap<TriKey, std::int32_t, TriKeyHash>;
 inline std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
   if (a > b) std::swap(a, b);
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
@@ -53,6 +53,14 @@ class TetTopology {
   const std::int32_t* neighbours_end(std::int32_t v) const { return &adj_[adj_off_[v + 1]]; }
   const std::int32_t* star_begin(std::int32_t v) const { return &star_[star_off_[v]]; }
   const std::int32_t* star_end(std::int32_t v) const { return &star_[star_off_[v + 1]]; }
+  // The tets whose lowest vertex is v, by increasing index, with their other three vertices
+  // (each tet once over all vertices; read in one sweep, unlike the star).
+  struct UpperTet {
+    std::int32_t tet;
+    std::int32_t v[3];
+  };
+  const UpperTet* upper_begin(std::int32_t v) const { return &upper_[upper_off_[v]]; }
+  const UpperTet* upper_end(std::int32_t v) const { return &upper_[upper_off_[v + 1]]; }
   bool adjacent(std::int32_t a, std::int32_t b) const;
   // Surface triangle index of triangle (a,b,c), -1 when it is not on the surface.
   std::int32_t surface_triangle(std::int32_t a, std::int32_t b, std::int32_t c) const;
@@ -63,9 +71,10 @@ class TetTopology {
  private:
   const TetMesh& mesh_;
   std::size_t num_surface_ = 0;
-  std::vector<std::int32_t> adj_off_, adj_, star_off_, star_;
+  std::vector<std::int32_t> adj_off_, adj_, star_off_, star_, upper_off_;
+  std::vector<UpperTet> upper_;
   std::vector<std::int32_t> cad_face_;
-  std::unordered_map<TriKey, std::int32_t, TriKeyHash> surface_tri_;
+  TriKeyMap surface_tri_;
   std::vector<double> tet_volume_;
 };
 
@@ -108,7 +117,9 @@ struct FillScratch {  // per-thread work memory of the enumerations
   std::vector<std::uint64_t> mark;
   std::uint64_t epoch = 0;
   std::vector<CornerQuad> quads;
-  std::vector<std::int32_t> list;
+  std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
+  std::vector<std::uint32_t> near;  // epoch-stamped vertex marks of the hex enumeration
+  std::uint32_t near_epoch = 0;
 };
 
 // Every potential quad face at v whose three other corners are above v (the enumerations find
@@ -142,9 +153,9 @@ class ConformityIndex {
 
  private:
   // Three vertices of a placed quad -> its fourth vertex.
-  std::unordered_map<TriKey, std::int32_t, TriKeyHash> quad_of_triple_;
-  std::unordered_set<TriKey, TriKeyHash> triangle_faces_;
-  std::unordered_set<std::uint64_t> edges_, diagonals_;
+  TriKeyMap quad_of_triple_;
+  OpenHashSet<TriKey, TriKeyHash> triangle_faces_;
+  OpenHashSet<std::uint64_t, U64Hash> edges_, diagonals_;
 };
 
 // Min scaled Jacobian of corner o with edges to a, b, c (no kind scaling).
@@ -188,9 +199,11 @@ using FindCandidates =
     std::function<void(std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out)>;
 std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find);
 
-// Greedy best-first placement: sorts `cands` and keeps each one that tets fill (fills_element,
-// for candidates whose tets are not known yet), whose tets are all free and that breaks no
-// conformity rule. Marks the tets used; returns the kept candidates in order.
+// Greedy best-first placement: sorts `cands` (unless sorted) and keeps each one that tets fill
+// (fills_element, for candidates whose tets are not known yet), whose tets are all free and
+// that breaks no conformity rule. Marks the tets used; returns the kept candidates in order.
+// The fill test of every candidate runs first, on all threads: only its last check (the tets
+// are free) depends on the placement, and the serial pass makes that check itself.
 std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candidate>& cands,
                                       std::vector<char>& used, ConformityIndex& index,
                                       const FillRules& rules);

@@ -22,6 +22,7 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
   // The corner at v is three quad faces (v p1 p2 p3), (v p1 p5 p4), (v p3 p7 p4) pairwise
   // sharing an edge at v: triangles in the graph of v's edges linked by potential quads.
   quads_at(topo, v, qmin, scratch);
+  if (scratch.near.size() != X.size()) scratch.near.assign(X.size(), 0);
   const auto& Q = scratch.quads;
   for (std::size_t i = 0; i < Q.size();) {
     // Block of quads with a = p1; within it, pairs of distinct partners q < r.
@@ -47,6 +48,14 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
         for (const CornerQuad* q2 = c2.first; q2 != c2.second; ++q2) {
           const std::int32_t p2 = q2->x;
           if (p2 == p4) continue;
+          // p2's neighbours, marked for the p6 search below.
+          if (++scratch.near_epoch == 0) {  // wrapped: forget every old mark
+            std::fill(scratch.near.begin(), scratch.near.end(), 0);
+            scratch.near_epoch = 1;
+          }
+          const std::uint32_t epoch = scratch.near_epoch;
+          for (auto it = topo.neighbours_begin(p2); it != topo.neighbours_end(p2); ++it)
+            scratch.near[*it] = epoch;
           for (const CornerQuad* q5 = c5.first; q5 != c5.second; ++q5) {
             const std::int32_t p5 = q5->x;
             if (p5 == p2 || p5 == p3 || !ok(p1, p2, v, p5)) continue;
@@ -56,11 +65,12 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
               if (!ok(p3, v, p2, p7) || !ok(p4, p7, p5, v)) continue;
               // p6: adjacent to p2, p5 and p7.
               for (auto it =
-                       std::upper_bound(topo.neighbours_begin(p2), topo.neighbours_end(p2), v);
-                   it != topo.neighbours_end(p2); ++it) {
+                       std::upper_bound(topo.neighbours_begin(p5), topo.neighbours_end(p5), v);
+                   it != topo.neighbours_end(p5); ++it) {
                 const std::int32_t p6 = *it;
-                if (p6 == p1 || p6 == p3 || p6 == p4 || p6 == p5 || p6 == p7) continue;
-                if (!topo.adjacent(p5, p6) || !topo.adjacent(p7, p6)) continue;
+                if (scratch.near[p6] != epoch) continue;
+                if (p6 == p1 || p6 == p3 || p6 == p4 || p6 == p2 || p6 == p7) continue;
+                if (!topo.adjacent(p7, p6)) continue;
                 if (!ok(p2, p3, p1, p6) || !ok(p5, p4, p6, p1) || !ok(p6, p5, p7, p2) ||
                     !ok(p7, p6, p4, p3))
                   continue;

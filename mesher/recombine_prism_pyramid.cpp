@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/quality.hpp"
@@ -215,18 +214,25 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
   std::sort(by_quality.begin(), by_quality.end());
   std::vector<std::int32_t> slivers;
   for (const auto& [q, t] : by_quality) slivers.push_back(t);
-  // Three corners of each quad face -> its fourth corner.
-  std::unordered_map<TriKey, std::int32_t, TriKeyHash> quad_of_triple;
-  auto add_quad = [&](const std::array<std::int32_t, 4>& q) {
+  // Three corners of each quad face -> its fourth corner (the first quad's, in the order they
+  // are added). Only triples of a sliver's vertices are ever looked up: the others are skipped.
+  OpenHashSet<TriKey, TriKeyHash> wanted(4 * slivers.size());
+  for (const std::int32_t t : slivers)
     for (int skip = 0; skip < 4; ++skip)
-      quad_of_triple.emplace(tri_key(q[(skip + 1) % 4], q[(skip + 2) % 4], q[(skip + 3) % 4]),
-                             q[skip]);
+      wanted.insert(
+          tri_key(m.tets[t][(skip + 1) % 4], m.tets[t][(skip + 2) % 4], m.tets[t][(skip + 3) % 4]));
+  TriKeyMap quad_of_triple(4 * slivers.size());
+  auto add_quad = [&](const std::array<std::int32_t, 4>& q) {
+    for (int skip = 0; skip < 4; ++skip) {
+      const TriKey k = tri_key(q[(skip + 1) % 4], q[(skip + 2) % 4], q[(skip + 3) % 4]);
+      if (wanted.contains(k)) quad_of_triple.emplace(k, q[skip]);
+    }
   };
   auto clashes = [&](const std::array<std::int32_t, 4>& q) {
     for (int skip = 0; skip < 4; ++skip) {
-      auto it =
+      const std::int32_t* fourth =
           quad_of_triple.find(tri_key(q[(skip + 1) % 4], q[(skip + 2) % 4], q[(skip + 3) % 4]));
-      if (it != quad_of_triple.end() && it->second != q[skip]) return true;
+      if (fourth && *fourth != q[skip]) return true;
     }
     return false;
   };

@@ -39,8 +39,8 @@ std::vector<Candidate> place_pyramids(std::vector<Candidate>& cands, std::vector
 // Pyramids holding a tet that shares a face with a free tet of min scaled Jacobian below
 // flat_sj, and any element with a tet on an edge of one below element_sj (a flat tet: its
 // edges' shells are what the flips need), go back to tets (their tets freed, the elements
-// erased from `elements`), so that merge_slivers_into_pyramids and the flips can use them. Returns how many went. Slivers absorbed into them must then be checked
-// again (release_orphan_slivers).
+// erased from `elements`), so that merge_slivers_into_pyramids and the flips can use them. Returns
+// how many went. Slivers absorbed into them must then be checked again (release_orphan_slivers).
 std::size_t dissolve_pyramids_next_to_slivers(const TetTopology& topo,
                                               std::vector<Candidate>& elements,
                                               std::vector<char>& used, double flat_sj,
