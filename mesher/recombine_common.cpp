@@ -84,19 +84,26 @@ TetTopology::TetTopology(const TetMesh& tets, const SurfaceMesh& surface) : mesh
       for (int k = 1; k < 4; ++k) u.v[k - 1] = T[(lo + k) % 4];
     }
   }
-  // Neighbours: the other vertices of the star, sorted and unique.
-  adj_off_.assign(nv + 1, 0);
-  std::vector<std::int32_t> tmp;
-  for (std::size_t v = 0; v < nv; ++v) {
-    tmp.clear();
+  // Neighbours: the other vertices of the star, sorted and unique; each vertex's list is made in
+  // its slot of 3 x its star (on all threads), then the slots are packed.
+  std::vector<std::int32_t> wide(3 * star_.size());
+  std::vector<std::int32_t> count(nv);
+  const auto num_v = static_cast<std::ptrdiff_t>(nv);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::ptrdiff_t v = 0; v < num_v; ++v) {
+    std::int32_t* begin = &wide[3 * static_cast<std::size_t>(star_off_[v])];
+    std::int32_t* end = begin;
     for (auto it = star_begin(v); it != star_end(v); ++it)
       for (std::int32_t w : tets.tets[*it])
-        if (w != static_cast<std::int32_t>(v)) tmp.push_back(w);
-    std::sort(tmp.begin(), tmp.end());
-    tmp.erase(std::unique(tmp.begin(), tmp.end()), tmp.end());
-    adj_.insert(adj_.end(), tmp.begin(), tmp.end());
-    adj_off_[v + 1] = static_cast<std::int32_t>(adj_.size());
+        if (w != v) *end++ = w;
+    std::sort(begin, end);
+    count[v] = static_cast<std::int32_t>(std::unique(begin, end) - begin);
   }
+  adj_off_.assign(nv + 1, 0);
+  for (std::size_t v = 0; v < nv; ++v) adj_off_[v + 1] = adj_off_[v] + count[v];
+  adj_.resize(adj_off_[nv]);
+  for (std::size_t v = 0; v < nv; ++v)
+    std::copy_n(&wide[3 * static_cast<std::size_t>(star_off_[v])], count[v], &adj_[adj_off_[v]]);
   const MixedMesh& sm = surface.mesh;
   num_surface_ = sm.nodes.size();
   cad_face_ = sm.bface_cad_face;
@@ -105,7 +112,9 @@ TetTopology::TetTopology(const TetMesh& tets, const SurfaceMesh& surface) : mesh
     surface_tri_.emplace(tri_key(sm.bface(t)[0], sm.bface(t)[1], sm.bface(t)[2]),
                          static_cast<std::int32_t>(t));
   tet_volume_.resize(nt);
-  for (std::size_t t = 0; t < nt; ++t) {
+  const auto num_t = static_cast<std::ptrdiff_t>(nt);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t t = 0; t < num_t; ++t) {
     Vec3 x[4];
     for (int i = 0; i < 4; ++i) x[i] = tets.nodes[tets.tets[t][i]];
     tet_volume_[t] = volume(CellKind::Tet4, x);
@@ -161,10 +170,11 @@ bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char
   }
   // The tets with all vertices among the nodes: each is listed once, by its lowest vertex, which
   // is at most the fourth highest node.
-  std::int32_t sorted_ids[8];
-  std::copy(nodes, nodes + nn, sorted_ids);
-  std::sort(sorted_ids, sorted_ids + nn);
-  const std::int32_t lowest_max = sorted_ids[nn - 4];
+  std::array<std::int32_t, 8> sorted_ids;  // unused slots sort first
+  for (int i = 0; i < 8; ++i)
+    sorted_ids[i] = i < nn ? nodes[i] : std::numeric_limits<std::int32_t>::min();
+  std::sort(sorted_ids.begin(), sorted_ids.end());
+  const std::int32_t lowest_max = sorted_ids[8 - 4];
   std::int32_t ts[8];
   unsigned tmask[8];
   int low[8];  // lowest local corner of each tet: they are listed by it, then by index
