@@ -148,7 +148,12 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
       }
       const Frame fc = field.frame(uc);
       if (!fc.ok || !(fc.h > 0)) continue;
-      const double r = k * fc.h;
+      // Where the size grows at the field's full gradation (0.5 per unit length: fc.h up to
+      // 1.5 fr.h), k fc.h would exclude the candidate from its own spawning point, h away, and
+      // no point would grow from a fine boundary into the face: a short boundary segment
+      // would then face the coarse points across the face (a needle). The exclusion grows at
+      // most by a quarter from the spawning point's.
+      const double r = k * std::min(fc.h, 1.25 * fr.h);
       Vec2 a, c;
       if (!parametric_step(fc, {fc.d1[0] * r, fc.d1[1] * r, fc.d1[2] * r}, a) ||
           !parametric_step(fc, {fc.d2[0] * r, fc.d2[1] * r, fc.d2[2] * r}, c))

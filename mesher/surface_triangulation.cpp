@@ -5,9 +5,12 @@
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "mesher/cdt_domain.hpp"
 #include "mesher/mesh/error.hpp"
@@ -123,6 +126,76 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
     }
     out.flips += flips;
     if (flips == 0 || out.flips > max_flips) break;
+  }
+
+  // An interior point lying almost on the line between two of its neighbours (where the
+  // packing grades steeply from a fine boundary) makes a flat triangle, with an angle near
+  // 180 degrees at the point and a needle's angles at the others. The point is taken out when
+  // the triangles that fill its star are better (smallest 3D angle) than the ones it had.
+  auto min_angle = [&](CDT::Face_handle fh) {
+    double m = std::numbers::pi;
+    for (int i = 0; i < 3; ++i)
+      m = std::min(m, angle(xyz(fh->vertex(i)->info().id), xyz(fh->vertex(CDT::ccw(i))->info().id),
+                            xyz(fh->vertex(CDT::cw(i))->info().id)));
+    return m;
+  };
+  constexpr double kFlat = 150 * std::numbers::pi / 180, kNeedle = 5 * std::numbers::pi / 180;
+  std::vector<CDT::Vertex_handle> flat;
+  for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
+    if (!in_domain(fh) || min_angle(fh) >= kNeedle) continue;
+    for (int i = 0; i < 3; ++i) {
+      const auto v = fh->vertex(i);
+      if (v->info().id >= nb && angle(xyz(v->info().id), xyz(fh->vertex(CDT::ccw(i))->info().id),
+                                      xyz(fh->vertex(CDT::cw(i))->info().id)) > kFlat)
+        flat.push_back(v);
+    }
+  }
+  std::sort(flat.begin(), flat.end());
+  flat.erase(std::unique(flat.begin(), flat.end()), flat.end());
+  for (const auto& v : flat) {
+    // The star of an interior point lies inside the face, on one nesting level.
+    double before = std::numbers::pi;
+    int level = -1;
+    bool inside = true;
+    std::vector<CDT::Vertex_handle> ring;
+    std::set<CDT::Face_handle> kept;
+    auto fc = cdt.incident_faces(v), fc_end = fc;
+    do {
+      inside = inside && in_domain(fc) && (level < 0 || fc->info() == level);
+      if (!inside) break;
+      level = fc->info();
+      before = std::min(before, min_angle(fc));
+      ring.push_back(fc->vertex(CDT::ccw(fc->index(v))));
+    } while (++fc != fc_end);
+    if (!inside) continue;
+    for (const auto& w : ring) {
+      auto g = cdt.incident_faces(w), g_end = g;
+      do
+        if (!g->has_vertex(v)) kept.insert(g);
+      while (++g != g_end);
+    }
+    const CDT::Point at = v->point();
+    const int id = v->info().id;
+    cdt.remove(v);
+    double after = std::numbers::pi;
+    std::vector<CDT::Face_handle> fresh;
+    for (const auto& w : ring) {
+      auto g = cdt.incident_faces(w), g_end = g;
+      do
+        if (!cdt.is_infinite(g) && !kept.count(g) &&
+            std::find(fresh.begin(), fresh.end(), g) == fresh.end()) {
+          g->info() = level;
+          fresh.push_back(g);
+          after = std::min(after, min_angle(g));
+        }
+      while (++g != g_end);
+    }
+    if (after > before) continue;
+    const auto back = cdt.insert(at);  // no better: as it was (Delaunay in the plane)
+    back->info().id = id;
+    auto g = cdt.incident_faces(back), g_end = g;
+    do g->info() = level;
+    while (++g != g_end);
   }
 
   out.interior_used.assign(in.uv.size(), false);
