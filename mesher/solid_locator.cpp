@@ -7,6 +7,8 @@
 #include <CGAL/box_intersection_d.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -208,6 +210,38 @@ int SolidLocator::locate(const Vec3& p) const {
     if (inside(s, p)) return s;
   }
   return 0;
+}
+
+double SolidLocator::distance(int s, const Vec3& p, std::int32_t* triangle) const {
+  const auto& tris = trees_->tris[s];
+  const auto hit = trees_->tree[s]->closest_point_and_primitive(P(p));
+  if (triangle) *triangle = solid_triangles_[s][hit.second - tris.begin()];
+  return std::sqrt(CGAL::squared_distance(P(p), hit.first));
+}
+
+double SolidLocator::ray_distance(int s, const Vec3& origin, const Vec3& dir,
+                                  std::int32_t skip_node, std::int32_t* triangle) const {
+  const auto& tris = trees_->tris[s];
+  const MixedMesh& m = surface_.mesh;
+  const auto skip = [&](TriIt it) {
+    if (skip_node < 0) return false;
+    const std::int32_t* f = m.bface(solid_triangles_[s][it - tris.begin()]);
+    return f[0] == skip_node || f[1] == skip_node || f[2] == skip_node;
+  };
+  const Point o = P(origin);
+  const K::Ray_3 ray(o, Point(origin[0] + dir[0], origin[1] + dir[1], origin[2] + dir[2]));
+  const auto hit = trees_->tree[s]->first_intersection(ray, skip);
+  if (triangle) *triangle = hit ? solid_triangles_[s][hit->second - tris.begin()] : -1;
+  if (!hit) return std::numeric_limits<double>::infinity();
+  double best = std::numeric_limits<double>::infinity();
+  if (const Point* q = boost::get<Point>(&hit->first)) {
+    best = std::sqrt(CGAL::squared_distance(o, *q));
+  } else if (const K::Segment_3* sg = boost::get<K::Segment_3>(&hit->first)) {
+    // The ray runs in the triangle's plane: its nearer end.
+    best = std::sqrt(
+        std::min(CGAL::squared_distance(o, sg->source()), CGAL::squared_distance(o, sg->target())));
+  }
+  return best;
 }
 
 std::vector<std::array<std::int32_t, 2>> SolidLocator::intersecting_triangles(

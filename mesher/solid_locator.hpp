@@ -38,6 +38,14 @@ class SolidLocator {
   bool segment_hits_boundary(int s, const Vec3& a, const Vec3& b) const;
   // The lowest solid id strictly containing p, 0 if none.
   int locate(const Vec3& p) const;
+  // Distance from p to the boundary of solid s; *triangle (if given) gets the surface triangle
+  // holding the closest point.
+  double distance(int s, const Vec3& p, std::int32_t* triangle = nullptr) const;
+  // Distance along the ray from `origin` in unit direction `dir` to the first boundary triangle
+  // of solid s that does not hold surface node `skip_node` (the ray's own start on the surface;
+  // -1: none skipped); infinity when it meets none. *triangle (if given) gets the triangle hit.
+  double ray_distance(int s, const Vec3& origin, const Vec3& dir, std::int32_t skip_node,
+                      std::int32_t* triangle = nullptr) const;
 
   // Pairs of surface triangles that intersect other than along shared vertices/edges (at most
   // `max_pairs`), for naming the faces in an error message. Sorted, deterministic.

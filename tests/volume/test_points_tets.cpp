@@ -43,6 +43,34 @@ TEST(SolidLocator, InsideAndDistanceOnABox) {
   EXPECT_FALSE(loc.segment_hits_boundary(1, {1.0, 0.5, 0.5}, {1.0, 0.5, 0.9}));
 }
 
+// Distances and ray casts against the faces of the 2 x 1 x 1 box, checked by hand.
+TEST(SolidLocator, DistanceAndRayOnABox) {
+  const SurfaceMesh s = synthetic::box_surface({2, 1, 1}, {8, 4, 4});
+  const SolidLocator loc(s);
+  std::int32_t tri = -1;
+  EXPECT_NEAR(loc.distance(1, {1.0, 0.5, 0.3}, &tri), 0.3, 1e-12);
+  ASSERT_GE(tri, 0);
+  EXPECT_EQ(s.mesh.bface_cad_face[tri], 5);  // z = 0
+  EXPECT_NEAR(loc.distance(1, {1.9, 0.45, 0.5}), 0.1, 1e-12);
+  EXPECT_NEAR(loc.distance(1, {3.0, 0.5, 0.5}), 1.0, 1e-12);  // outside: to the face x = 2
+  // From inside along +x: the face x = 2.
+  EXPECT_NEAR(loc.ray_distance(1, {0.3, 0.4, 0.6}, {1, 0, 0}, -1, &tri), 1.7, 1e-12);
+  EXPECT_EQ(s.mesh.bface_cad_face[tri], 2);
+  // From a surface node of the face z = 0 inward: its own triangles are skipped, so the ray
+  // meets the face z = 1 across the box.
+  std::int32_t v = -1;
+  for (std::size_t i = 0; i < s.mesh.nodes.size(); ++i)
+    if (std::abs(s.mesh.nodes[i][0] - 1.0) < 1e-12 && std::abs(s.mesh.nodes[i][1] - 0.5) < 1e-12 &&
+        std::abs(s.mesh.nodes[i][2]) < 1e-12)
+      v = static_cast<std::int32_t>(i);
+  ASSERT_GE(v, 0);
+  EXPECT_NEAR(loc.ray_distance(1, s.mesh.nodes[v], {0, 0, 1}, v, &tri), 1.0, 1e-12);
+  EXPECT_EQ(s.mesh.bface_cad_face[tri], 6);
+  // Leaving the box: nothing behind.
+  EXPECT_TRUE(std::isinf(loc.ray_distance(1, {5, 5, 5}, {1, 0, 0}, -1, &tri)));
+  EXPECT_EQ(tri, -1);
+}
+
 TEST(SolidLocator, OpenSurfaceIsAnError) {
   SurfaceMesh s = synthetic::box_surface({1, 1, 1}, {2, 2, 2});
   s.mesh.bface_nodes.resize(s.mesh.bface_nodes.size() - 4);
