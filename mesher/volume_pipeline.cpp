@@ -177,6 +177,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   po.random = options.random_points;
   po.seed = options.random_seed;
   po.jitter = options.jitter;
+  po.inherit_frame = options.inherit_frame;
   const VolumePoints points = insert_volume_points(surface_in, field, locator, po);
   r.surface_vertices = surface_in.mesh.nodes.size();
   r.interior_points = points.points.size();

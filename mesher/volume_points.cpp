@@ -71,17 +71,19 @@ class Cloud {
 struct Candidate {
   Vec3 pos;
   std::int32_t parent;
-  std::int32_t nearest = -1;  // surface vertex giving frame and size
+  std::int32_t nearest = -1;  // surface vertex giving the size
+  std::int32_t framer = -1;   // surface vertex giving the frame
   std::int32_t solid = 0;     // 0: rejected
 };
 
 VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
-                     const SolidLocator& locator, double k) {
+                     const SolidLocator& locator, double k, bool inherit_frame) {
   const std::size_t ns = surface.mesh.nodes.size();
   Cloud cloud(surface.mesh.nodes);
-  // Per cloud point: the surface vertex whose frame/size it uses, and its solid (0 = surface).
-  std::vector<std::int32_t> nearest(ns), solid(ns, 0);
-  for (std::size_t v = 0; v < ns; ++v) nearest[v] = static_cast<std::int32_t>(v);
+  // Per cloud point: the surface vertices whose size and frame it uses, and its solid (0 =
+  // surface).
+  std::vector<std::int32_t> nearest(ns), framer(ns), solid(ns, 0);
+  for (std::size_t v = 0; v < ns; ++v) nearest[v] = framer[v] = static_cast<std::int32_t>(v);
   std::vector<std::int32_t> queue(ns);
   for (std::size_t v = 0; v < ns; ++v) queue[v] = static_cast<std::int32_t>(v);
   // A surface node that no triangle uses would grow points outside: skip it.
@@ -109,7 +111,7 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       const int j = static_cast<int>(i % 6);
       const Vec3& x = cloud.point(c.parent);
       const std::int32_t pv = nearest[c.parent];
-      const Frame& pf = field.vertex_frame(pv);
+      const Frame& pf = field.vertex_frame(framer[c.parent]);
       const double hp = field.vertex_size(pv);
       const double sign = (j % 2) ? -1.0 : 1.0;
       const Vec3& dir = pf[j / 2];
@@ -123,8 +125,9 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       }
       c.pos = trial;
       c.nearest = nv;
+      c.framer = inherit_frame ? framer[c.parent] : nv;
       const double r = k * field.vertex_size(nv);
-      if (cloud.excluded(trial, field.vertex_frame(nv), r)) continue;
+      if (cloud.excluded(trial, field.vertex_frame(c.framer), r)) continue;
       if (solid[c.parent] > 0) {
         const int s = solid[c.parent];
         if (!locator.near_boundary(s, trial, r) && !locator.segment_hits_boundary(s, x, trial))
@@ -143,10 +146,10 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       ++out.candidates;
       if (c.solid == 0) continue;
       const double r = k * field.vertex_size(c.nearest);
-      if (cloud.size() > before && cloud.excluded(c.pos, field.vertex_frame(c.nearest), r))
-        continue;
+      if (cloud.size() > before && cloud.excluded(c.pos, field.vertex_frame(c.framer), r)) continue;
       const std::int32_t id = cloud.add(c.pos);
       nearest.push_back(c.nearest);
+      framer.push_back(c.framer);
       solid.push_back(c.solid);
       queue.push_back(id);
       out.points.push_back(c.pos);
@@ -226,14 +229,15 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
     throw Error("volume points: jitter must be in [0, 0.01), got " +
                 std::to_string(options.jitter));
   if (!options.random) {
-    VolumePoints out = frontal(surface, field, locator, options.k);
+    VolumePoints out = frontal(surface, field, locator, options.k, options.inherit_frame);
     jitter_points(out, field, options.jitter);
     return out;
   }
   std::size_t target = options.random_count;
   std::size_t frontal_count = 0;
   if (target == 0) {
-    frontal_count = frontal(surface, field, locator, options.k).points.size();
+    frontal_count =
+        frontal(surface, field, locator, options.k, options.inherit_frame).points.size();
     target = frontal_count;
   }
   VolumePoints out = random_points(surface, field, locator, options.k, target, options.seed);

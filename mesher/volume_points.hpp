@@ -3,6 +3,10 @@
 // +-d*d_i along its frame (d the mean of the sizes at parent and candidate); a candidate is kept
 // when it lies inside the solid, not within k*h of the boundary, and no point lies within k*h of
 // it in the L-infinity distance oriented by its frame (eq. 7).
+// A point's frame is the frame of the surface vertex its front started from (inherited from
+// parent to child), not the paper's frame of the nearest surface vertex: each front then grows
+// as one straight lattice up to where it meets another, instead of switching orientation where
+// the nearest vertex changes (ANC101 h = 4.5: H_vol +1.1 points, H_nbr +2.0; validation/volume.md).
 #pragma once
 
 #include <cstdint>
@@ -23,6 +27,9 @@ struct VolumePointsOptions {
   // lattice of co-spherical points makes TetGen's exact predicates several times slower, but
   // jitter also breaks cubes into more slivers and costs hexes: off by default.
   double jitter = 0;
+  // Frame of a point: the one its front started from (true), or the nearest surface vertex's
+  // (false: the paper's rule). The size is always the nearest surface vertex's.
+  bool inherit_frame = true;
 };
 
 struct VolumePoints {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <numbers>
 #include <set>
 
 #include "mesher/frame_field_3d.hpp"
@@ -126,6 +128,52 @@ TEST(VolumePoints, FrontalFillsTheBoxLattice) {
       most = std::max(most, std::abs(jittered.points[i][a] - vp.points[i][a]));
   EXPECT_GT(most, 0.0);
   EXPECT_LE(most, 1e-6 * 0.25);
+}
+
+// A point's frame is the frame of the surface vertex its front started from: every step (of
+// length h, the size being uniform) is taken along that one frame, so each interior point is its
+// start vertex plus whole numbers of steps along the start vertex's frame. On a cylinder whose
+// disks' frames lean 25 degrees off the axis, the paper's nearest-vertex frames
+// (inherit_frame = false) switch to the lateral face's frames as the disks' fronts go deeper,
+// and some points are on no such front.
+TEST(VolumePoints, FrontsKeepTheFrameTheyStartedWith) {
+  const double h = 0.125;
+  SurfaceMesh s = synthetic::cylinder_surface(1.0, 1.0, h);
+  const double c = std::cos(25 * std::numbers::pi / 180),
+               sn = std::sin(25 * std::numbers::pi / 180);
+  for (auto& f : s.frame) {
+    if (std::abs(f[2][2]) < 0.5) continue;  // lateral
+    const double z = f[2][2] > 0 ? 1 : -1;
+    f = {Vec3{1, 0, 0}, Vec3{0, z * c, -z * sn}, Vec3{0, z * sn, z * c}};
+  }
+  const FrameField3D field(s);
+  const SolidLocator loc(s);
+  auto on_a_front = [&](const Vec3& p) {
+    for (std::size_t v = 0; v < s.mesh.nodes.size(); ++v) {
+      const Vec3 d = synthetic::sub3(p, s.mesh.nodes[v]);
+      bool whole = true;
+      for (int i = 0; i < 3 && whole; ++i) {
+        const double c =
+            synthetic::dot3(d, field.vertex_frame(static_cast<std::int32_t>(v))[i]) / h;
+        whole = std::abs(c - std::round(c)) < 1e-9;
+      }
+      if (whole) return true;
+    }
+    return false;
+  };
+  for (bool inherit : {true, false}) {
+    VolumePointsOptions o;
+    o.inherit_frame = inherit;
+    const VolumePoints vp = insert_volume_points(s, field, loc, o);
+    ASSERT_GT(vp.points.size(), 500u);
+    std::size_t off = 0;
+    for (const Vec3& p : vp.points) off += !on_a_front(p);
+    if (inherit)
+      EXPECT_EQ(off, 0u);
+    else
+      EXPECT_GT(off, 0u);
+    std::printf("inherit %d: %zu points, %zu on no front\n", inherit, vp.points.size(), off);
+  }
 }
 
 TEST(VolumePoints, RandomModeMatchesTheFrontalCountAndStaysInside) {
