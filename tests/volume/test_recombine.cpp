@@ -176,7 +176,7 @@ TEST(VolumePipeline, CylinderIsValidDeterministicAndMostlyHexes) {
   EXPECT_GT(r1.h_vol, 70.0);
   EXPECT_GT(r1.cells[static_cast<int>(CellKind::Wedge6)], 0u);
   EXPECT_GT(r1.cells[static_cast<int>(CellKind::Pyramid5)], 0u);
-  // Without prisms and pyramids there are none, and no fewer hexes.
+  // Without prisms and pyramids there are none, and no fewer hexes placed.
   VolumeOptions o;
   o.no_prisms = o.no_pyramids = true;
   VolumeReport r3;
@@ -184,7 +184,10 @@ TEST(VolumePipeline, CylinderIsValidDeterministicAndMostlyHexes) {
   check_mesh(c, r3);
   EXPECT_EQ(r3.cells[static_cast<int>(CellKind::Wedge6)], 0u);
   EXPECT_EQ(r3.cells[static_cast<int>(CellKind::Pyramid5)], 0u);
-  EXPECT_EQ(r3.cells[static_cast<int>(CellKind::Hex8)], r1.cells[static_cast<int>(CellKind::Hex8)]);
+  // Counted before the volume-gap pass, which undoes more hexes when their unshared faces meet
+  // tets rather than prisms and pyramids.
+  const int hex = static_cast<int>(CellKind::Hex8);
+  EXPECT_EQ(r3.cells[hex] + r3.gap_undone[hex], r1.cells[hex] + r1.gap_undone[hex]);
 }
 
 TEST(VolumePipeline, BadOptionsAreErrors) {
