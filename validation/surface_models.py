@@ -362,12 +362,17 @@ def notes_section(args, lines):
         "sizes of strips met there), so the corner is one triangle; beyond it the points "
         "across the wedge are spaced four times its width (a geometric progression along a "
         "straight wedge), down to 0.15 % of h; strips between edges that share no corner are "
-        "refined to their width down to 1.5 % of h (was 5 %). What is left unforced: "
-        "40mm_capot face 215 at diagonal/100 (two arc edges of a slot, 0.15 mm chords, facing "
-        "the other side 1.6 mm away with no point between) and 917_fusee faces 107 and 133, "
-        "next to face 106's tangent cusp, whose corner triangle is 0.2°–0.5°: the cusp's zone "
-        "segment is about 50 times longer than the next one on the shared edge, and the "
-        "neighbouring face gets a needle there.",
+        "refined to their width down to 1.5 % of h (was 5 %). Two more sources of needles "
+        "were in the faces' interiors (40mm_capot face 215 at diagonal/100: 0.15 mm arc "
+        "chords facing the other side of a 1.6 mm slot with no point between; 917_fusee faces "
+        "107 and 133 next to face 106's cusp, whose zone segment is about 30 times the next one "
+        "on the shared edge): where the size grows at the full gradation from a fine boundary, "
+        "the packing (mesher/surface_points.cpp) refused every candidate as too close to the "
+        "point it grew from, so nothing filled in; the exclusion now grows by at most a "
+        "quarter from the spawning point's. And an interior point almost on the line between "
+        "two neighbours (a flat triangle, >150° at it, <5° at the others) is taken out of the "
+        "triangulation when its star's triangles get better (mesher/surface_triangulation.cpp). "
+        "No unforced triangle below 5° is left.",
         "- **Repair**: when a first mesh fails the checks (chords of the two sides of a thin "
         "wall crossing at a coarse h: 40mm_capot at diagonal/25), mesh_surface meshes "
         "the part again with a curvature bound of 8 (then 16) elements per turn; the "
@@ -375,11 +380,9 @@ def notes_section(args, lines):
         "- **Speed**: the checks (CGAL self-intersection test) are part of mesh_surface and of "
         "the timed total (`hexfem mesh` reuses them). The machine is shared, so a 2-thread run "
         "is no faster than a 1-thread run here.",
-        "- **Downstream**: with these surfaces the volume test "
-        "`ControlArm.CoarseAndFineHaveNoFlatCellsAndAClosedBoundary` (tests/volume) fails at "
-        "h = 10.1: one interior tet (four interior points near (76.5, -1.7, -62.1), 30 mm from "
-        "any cusp) has a scaled Jacobian of 0.00113, below the test's 0.002; with the previous "
-        "edge points it passed. The steel part and the e2e tests pass.",
+        "- **Downstream**: tests/volume (including the control arm at h = 10.1, whose flat "
+        "tet from these surfaces is now lifted by mesher/volume_slivers.cpp) and tests/e2e "
+        "pass with these surfaces.",
         "",
     ]
 
