@@ -570,27 +570,50 @@ std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candi
                                       std::vector<char>& used, ConformityIndex& index,
                                       const FillRules& rules) {
   if (!std::is_sorted(cands.begin(), cands.end())) std::sort(cands.begin(), cands.end());
-  // The fill test, with the tets taken so far (they stay taken), on all threads.
-  std::vector<char> fillable(cands.size(), 1);
-  const auto num_cands = static_cast<std::ptrdiff_t>(cands.size());
-#pragma omp parallel
-  {
-    FillScratch scratch;
-#pragma omp for schedule(dynamic, 4096)
-    for (std::ptrdiff_t i = 0; i < num_cands; ++i)
-      if (cands[i].tets[0] < 0) fillable[i] = fills_element(topo, cands[i], &used, rules, scratch);
-  }
+  // Free tets around each vertex: a candidate with a corner whose tets are all taken cannot be
+  // placed, and on big parts most candidates are rejected by this before any fill test.
+  const TetMesh& m = topo.mesh();
+  std::vector<std::int32_t> free_around(m.nodes.size(), 0);
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    if (!used[t])
+      for (std::int32_t v : m.tets[t]) ++free_around[v];
+  auto possible = [&](const Candidate& c) {
+    for (int i = 0; i < num_nodes(c.kind); ++i)
+      if (free_around[c.nodes[i]] == 0) return false;
+    return true;
+  };
+  // In chunks, best first: the fill tests of a chunk's still possible candidates on all threads
+  // (they only read `used`), then the serial greedy pass over the chunk.
+  constexpr std::size_t kChunk = 1 << 15;
+  std::vector<char> fillable(std::min(cands.size(), kChunk));
   std::vector<Candidate> kept;
-  for (std::size_t i = 0; i < cands.size(); ++i) {
-    const Candidate& c = cands[i];
-    if (!fillable[i]) continue;
-    bool free = true;
-    for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
-    if (!free || index.conflicts(c)) continue;
-    for (std::int32_t t : c.tets)
-      if (t >= 0) used[t] = 1;
-    index.add(c);
-    kept.push_back(c);
+  for (std::size_t start = 0; start < cands.size(); start += kChunk) {
+    const std::size_t end = std::min(cands.size(), start + kChunk);
+    const auto count = static_cast<std::ptrdiff_t>(end - start);
+#pragma omp parallel
+    {
+      FillScratch scratch;
+#pragma omp for schedule(dynamic, 256)
+      for (std::ptrdiff_t k = 0; k < count; ++k) {
+        Candidate& c = cands[start + k];
+        fillable[k] =
+            possible(c) && (c.tets[0] >= 0 || fills_element(topo, c, &used, rules, scratch));
+      }
+    }
+    for (std::size_t i = start; i < end; ++i) {
+      const Candidate& c = cands[i];
+      if (!fillable[i - start] || !possible(c)) continue;
+      bool free = true;
+      for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
+      if (!free || index.conflicts(c)) continue;
+      for (std::int32_t t : c.tets) {
+        if (t < 0) continue;
+        used[t] = 1;
+        for (std::int32_t v : m.tets[t]) --free_around[v];
+      }
+      index.add(c);
+      kept.push_back(c);
+    }
   }
   return kept;
 }
