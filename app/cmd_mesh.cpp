@@ -182,6 +182,9 @@ RegisterCommand reg{
            "largest |V(mesh) - V(tets)| / V(tets): elements losing most go back to tets");
        sub.add_flag("--no-prisms", a->volume.no_prisms, "make no prisms");
        sub.add_flag("--no-pyramids", a->volume.no_pyramids, "make no pyramids");
+       sub.add_flag("--nearest-frame{false}", a->volume.inherit_frame,
+                    "interior points take the nearest surface vertex's frame (paper) instead of "
+                    "their front's (study)");
        sub.add_flag("--random-points", a->volume.random_points,
                     "random interior points instead of frontal ones (study)");
        return [a] { return run(*a); };
