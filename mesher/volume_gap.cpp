@@ -10,14 +10,10 @@ namespace hexfem {
 
 namespace {
 
-// V(element) - V(its tets).
-double own_gap(const TetTopology& topo, const Candidate& e) {
+double element_volume(const TetTopology& topo, const Candidate& e) {
   Vec3 x[8];
   for (int i = 0; i < num_nodes(e.kind); ++i) x[i] = topo.mesh().nodes[e.nodes[i]];
-  double d = volume(e.kind, x);
-  for (std::int32_t t : e.tets)
-    if (t >= 0) d -= topo.tet_volume(t);
-  return d;
+  return volume(e.kind, x);
 }
 
 struct KeyedSliver {
@@ -33,10 +29,17 @@ struct Undo {
 
 }  // namespace
 
+double element_gap(const TetTopology& topo, const Candidate& e) {
+  double d = element_volume(topo, e);
+  for (std::int32_t t : e.tets)
+    if (t >= 0) d -= topo.tet_volume(t);
+  return d;
+}
+
 double volume_gap(const TetTopology& topo, const std::vector<Candidate>& elements,
                   const std::vector<std::int32_t>& absorbed) {
   double g = 0;
-  for (const Candidate& e : elements) g += own_gap(topo, e);
+  for (const Candidate& e : elements) g += element_gap(topo, e);
   for (std::int32_t t : absorbed) g -= topo.tet_volume(t);
   return g;
 }
@@ -67,9 +70,9 @@ VolumeGap limit_volume_gap(const TetTopology& topo, std::vector<Candidate>& elem
       for (std::int32_t t : e.tets)
         keeps_valid = keeps_valid && (t < 0 || tet_quality(topo, t) >= keep_sj);
       if (!keeps_valid) continue;
-      // Undoing changes the gap by -own_gap plus the slivers it frees: those on its faces that
+      // Undoing changes the gap by -element_gap plus the slivers it frees: those on its faces that
       // no other element shares.
-      double gain = -own_gap(topo, e);
+      double gain = -element_gap(topo, e);
       const CellFaces cf = faces_of(e.kind);
       for (int f = 0; f < cf.count && keeps_valid; ++f) {
         if (cf.face[f].n != 4) continue;
@@ -83,9 +86,7 @@ VolumeGap limit_volume_gap(const TetTopology& topo, std::vector<Candidate>& elem
         }
       }
       if (!keeps_valid || sign * gain <= 0) continue;
-      Vec3 x[8];
-      for (int n = 0; n < num_nodes(e.kind); ++n) x[n] = topo.mesh().nodes[e.nodes[n]];
-      undo.push_back({sign * gain / volume(e.kind, x), gain, i});
+      undo.push_back({sign * gain / element_volume(topo, e), gain, i});
     }
     if (undo.empty()) break;
     std::sort(undo.begin(), undo.end(), [](const Undo& a, const Undo& b) {

@@ -21,6 +21,9 @@ struct VolumeGap {
   std::size_t undone[kNumCellKinds] = {};  // elements turned back into tets, by kind
 };
 
+// V(element) - V(its tets).
+double element_gap(const TetTopology& topo, const Candidate& e);
+
 // V(mixed) - V(tets) of elements + free tets + absorbed slivers (see above).
 double volume_gap(const TetTopology& topo, const std::vector<Candidate>& elements,
                   const std::vector<std::int32_t>& absorbed);

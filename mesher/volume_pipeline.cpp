@@ -281,13 +281,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
 
   for (std::size_t t = 0; t < tets.tets.size(); ++t) r.volume_tets += topo.tet_volume(t);
   // Where the gap comes from: each element against its own tets, and the absorbed slivers.
-  for (const Candidate& e : elements) {
-    Vec3 x[8];
-    for (int i = 0; i < num_nodes(e.kind); ++i) x[i] = tets.nodes[e.nodes[i]];
-    r.volume_elements_gap += volume(e.kind, x);
-    for (std::int32_t t : e.tets)
-      if (t >= 0) r.volume_elements_gap -= topo.tet_volume(t);
-  }
+  for (const Candidate& e : elements) r.volume_elements_gap += element_gap(topo, e);
   for (std::int32_t t : absorbed) r.volume_absorbed += topo.tet_volume(t);
   const MeshStats st = compute_stats(mesh);
   r.vertices = st.num_nodes;
