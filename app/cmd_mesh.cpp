@@ -182,6 +182,10 @@ RegisterCommand reg{
            "largest |V(mesh) - V(tets)| / V(tets): elements losing most go back to tets");
        sub.add_flag("--no-prisms", a->volume.no_prisms, "make no prisms");
        sub.add_flag("--no-pyramids", a->volume.no_pyramids, "make no pyramids");
+       sub.add_flag("--no-nc-repair{false}", a->volume.nc_repair,
+                    "keep elements that make more NC quad faces than they match (study)");
+       sub.add_option("--nc-hex-gain", a->volume.nc_hex_gain,
+                      "a hex goes back to tets when that removes at least this many NC faces");
        sub.add_flag("--nearest-frame{false}", a->volume.inherit_frame,
                     "interior points take the nearest surface vertex's frame (paper) instead of "
                     "their front's (study)");

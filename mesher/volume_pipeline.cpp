@@ -16,6 +16,7 @@
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/mesh/quality.hpp"
+#include "mesher/recombine_conformity.hpp"
 #include "mesher/recombine_hex.hpp"
 #include "mesher/recombine_prism_pyramid.hpp"
 #include "mesher/solid_locator.hpp"
@@ -166,6 +167,9 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
     throw Error("min quality must be in [0, 1], got " + std::to_string(options.min_quality));
   if (!(options.max_volume_gap > 0)) throw Error("the element volume tolerance must be positive");
   if (!(options.max_total_gap > 0)) throw Error("the volume gap bound must be positive");
+  if (options.nc_hex_gain < 1)
+    throw Error("the NC gain of a hex undone must be at least 1, got " +
+                std::to_string(options.nc_hex_gain));
   StageTimer timer(r);
 
   const FrameField3D field(surface_in);
@@ -251,6 +255,18 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
     }
   }
   timer.stage("pyramids");
+
+  if (options.nc_repair) {
+    const NcRepair nr = undo_nonconformal_elements(
+        topo, elements, absorbed, used, options.flat_tet_quality, kFlatTetQuality,
+        options.min_pyramid_quality, options.nc_hex_gain, !options.no_pyramids);
+    r.nc_faces_before_repair = nr.nc_before;
+    r.nc_faces_after_repair = nr.nc_after;
+    r.nc_repair_pyramids = nr.pyramids_added;
+    for (int k = 0; k < kNumCellKinds; ++k) r.nc_undone[k] = nr.undone[k];
+    r.absorbed_slivers = absorbed.size();
+  }
+  timer.stage("nc repair");
 
   {
     const VolumeGap vg = limit_volume_gap(topo, elements, absorbed, used, options.max_total_gap,
@@ -349,6 +365,13 @@ nlohmann::json volume_report_json(const VolumeReport& r) {
   for (int k = 0; k < kNumCellKinds; ++k)
     if (r.gap_undone[k]) undone[kind_name(static_cast<CellKind>(k))] = r.gap_undone[k];
   j["undone_for_volume_gap"] = undone.is_null() ? nlohmann::json::object() : undone;
+  nlohmann::json nc_undone;
+  for (int k = 0; k < kNumCellKinds; ++k)
+    if (r.nc_undone[k]) nc_undone[kind_name(static_cast<CellKind>(k))] = r.nc_undone[k];
+  j["nc_repair"] = {{"nc_faces_before", r.nc_faces_before_repair},
+                    {"nc_faces_after", r.nc_faces_after_repair},
+                    {"undone", nc_undone.is_null() ? nlohmann::json::object() : nc_undone},
+                    {"pyramids_added", r.nc_repair_pyramids}};
   nlohmann::json stages = nlohmann::json::array();
   for (const auto& s : r.stages)
     stages.push_back({{"stage", s.name}, {"seconds", s.seconds}, {"cpu_seconds", s.cpu_seconds}});
@@ -393,6 +416,13 @@ std::string volume_report_text(const VolumeReport& r) {
        std::abs(r.volume_gap_before), r.gap_undone[static_cast<int>(CellKind::Hex8)],
        r.gap_undone[static_cast<int>(CellKind::Wedge6)],
        r.gap_undone[static_cast<int>(CellKind::Pyramid5)]);
+  line(
+      "nc repair       %zu -> %zu NC faces: undid %zu hex, %zu prism, %zu pyramid; %zu pyramids "
+      "made",
+      r.nc_faces_before_repair, r.nc_faces_after_repair,
+      r.nc_undone[static_cast<int>(CellKind::Hex8)],
+      r.nc_undone[static_cast<int>(CellKind::Wedge6)],
+      r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids);
   for (const auto& st : r.stages)
     line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);
   line("time total                 %8.3f s wall %8.3f s cpu (%d threads)", r.total_seconds,

@@ -9,6 +9,7 @@
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/quality.hpp"
 #include "mesher/mesh/structured_box.hpp"
+#include "mesher/recombine_conformity.hpp"
 #include "mesher/recombine_hex.hpp"
 #include "mesher/recombine_prism_pyramid.hpp"
 #include "mesher/volume_pipeline.hpp"
@@ -126,6 +127,79 @@ TEST(ConformityIndex, RulesOfFigures15To18) {
   EXPECT_TRUE(j.conflicts(hex({0, 1, 2, 3, 4, 5, 6, 7})));
 }
 
+// The cubes of a 3x3x3 Kuhn lattice as hexes made of their tets; keep(i, j, k) picks the cubes
+// that stay hexes, the others stay tets.
+struct Recombined {
+  Lattice lattice;
+  std::vector<Candidate> hexes;
+  std::vector<char> used;
+};
+template <class Keep>
+Recombined lattice_with_hexes(Keep keep) {
+  Recombined R{lattice_of_tets(3, 3, 3, CellKind::Tet4), {}, {}};
+  const TetTopology topo(R.lattice.tets, R.lattice.surface);
+  std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
+  std::vector<char> used(R.lattice.tets.tets.size(), 0);
+  ConformityIndex index;
+  R.used.assign(used.size(), 0);
+  for (const Candidate& h : place_greedily(topo, cands, used, index, FillRules{})) {
+    Vec3 c{0, 0, 0};  // the cube's centre
+    for (int i = 0; i < 8; ++i)
+      for (int d = 0; d < 3; ++d) c[d] += R.lattice.tets.nodes[h.nodes[i]][d] / 8;
+    if (!keep(static_cast<int>(c[0]), static_cast<int>(c[1]), static_cast<int>(c[2]))) continue;
+    R.hexes.push_back(h);
+    for (auto t : h.tets)
+      if (t >= 0) R.used[t] = 1;
+  }
+  return R;
+}
+
+TEST(NcRepair, LoneHexAmongTetsGoesBack) {
+  // The middle cube alone: six quad faces against tets (NC); undoing it leaves none.
+  Recombined R = lattice_with_hexes([](int i, int j, int k) { return i == 1 && j == 1 && k == 1; });
+  ASSERT_EQ(R.hexes.size(), 1u);
+  const TetTopology topo(R.lattice.tets, R.lattice.surface);
+  std::vector<std::int32_t> absorbed;
+  const NcRepair nr =
+      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 1);
+  EXPECT_EQ(nr.nc_before, 6u);
+  EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 1u);
+  EXPECT_EQ(nr.nc_after, 0u);
+  EXPECT_TRUE(R.hexes.empty());
+  for (char u : R.used) EXPECT_FALSE(u);  // its six tets are free again
+}
+
+TEST(NcRepair, HexLayerOnTheSurfaceStays) {
+  // The bottom layer of nine cubes: each has one face against tets above and at least two
+  // matched faces beside it, so undoing any would make more NC faces than it removes.
+  Recombined R = lattice_with_hexes([](int, int, int k) { return k == 0; });
+  ASSERT_EQ(R.hexes.size(), 9u);
+  const TetTopology topo(R.lattice.tets, R.lattice.surface);
+  std::vector<std::int32_t> absorbed;
+  const NcRepair nr =
+      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 1, false);
+  EXPECT_EQ(nr.nc_before, 9u);
+  EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 0u);
+  EXPECT_EQ(nr.nc_after, 9u);
+  EXPECT_EQ(R.hexes.size(), 9u);
+}
+
+TEST(NcRepair, HexStickingOutOfALayerGoesBack) {
+  // The bottom layer plus the cube on top of its middle: that one has five faces against tets
+  // and one matched (undoing it: 5 - 1 = 4 NC faces fewer); the layer stays.
+  Recombined R = lattice_with_hexes(
+      [](int i, int j, int k) { return k == 0 || (i == 1 && j == 1 && k == 1); });
+  ASSERT_EQ(R.hexes.size(), 10u);
+  const TetTopology topo(R.lattice.tets, R.lattice.surface);
+  std::vector<std::int32_t> absorbed;
+  const NcRepair nr =
+      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 1, false);
+  EXPECT_EQ(nr.nc_before, 8u + 5u);  // the middle of the layer is matched by the cube on top
+  EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 1u);
+  EXPECT_EQ(nr.nc_after, 9u);
+  EXPECT_EQ(R.hexes.size(), 9u);
+}
+
 // Checks every property the pipeline promises on one mesh.
 void check_mesh(const MixedMesh& m, const VolumeReport& r) {
   EXPECT_EQ(r.inverted, 0u);
@@ -187,7 +261,8 @@ TEST(VolumePipeline, CylinderIsValidDeterministicAndMostlyHexes) {
   // Counted before the volume-gap pass, which undoes more hexes when their unshared faces meet
   // tets rather than prisms and pyramids.
   const int hex = static_cast<int>(CellKind::Hex8);
-  EXPECT_EQ(r3.cells[hex] + r3.gap_undone[hex], r1.cells[hex] + r1.gap_undone[hex]);
+  EXPECT_EQ(r3.cells[hex] + r3.gap_undone[hex] + r3.nc_undone[hex],
+            r1.cells[hex] + r1.gap_undone[hex] + r1.nc_undone[hex]);
 }
 
 TEST(VolumePipeline, BadOptionsAreErrors) {
@@ -197,6 +272,9 @@ TEST(VolumePipeline, BadOptionsAreErrors) {
   EXPECT_THROW(mesh_volume(s, o), Error);
   o = {};
   o.min_quality = 2;
+  EXPECT_THROW(mesh_volume(s, o), Error);
+  o = {};
+  o.nc_hex_gain = 0;
   EXPECT_THROW(mesh_volume(s, o), Error);
 }
 
