@@ -1,5 +1,6 @@
 #include "mesher/frame_field_3d.hpp"
 
+#include <algorithm>
 #include <boost/geometry.hpp>
 #include <boost/geometry/index/rtree.hpp>
 #include <cmath>
@@ -43,6 +44,7 @@ FrameField3D::FrameField3D(const SurfaceMesh& surface) : index_(std::make_unique
   if (n == 0) throw Error("surface mesh has no nodes");
   frames_.resize(n);
   sizes_ = surface.size;
+  nodes_ = surface.mesh.nodes;
   std::vector<RValue> values;
   values.reserve(n);
   for (std::size_t v = 0; v < n; ++v) {
@@ -58,6 +60,7 @@ FrameField3D::FrameField3D(const SurfaceMesh& surface) : index_(std::make_unique
     const Vec3 d2{nn[1] * d1[2] - nn[2] * d1[1], nn[2] * d1[0] - nn[0] * d1[2],
                   nn[0] * d1[1] - nn[1] * d1[0]};
     frames_[v] = {d1, d2, nn};
+    max_size_ = std::max(max_size_, sizes_[v]);
     const Vec3& p = surface.mesh.nodes[v];
     values.emplace_back(RPoint(p[0], p[1], p[2]), static_cast<std::int32_t>(v));
   }
@@ -66,6 +69,12 @@ FrameField3D::FrameField3D(const SurfaceMesh& surface) : index_(std::make_unique
 }
 
 FrameField3D::~FrameField3D() = default;
+
+double FrameField3D::size_at(const Vec3& p, std::int32_t v) const {
+  const Vec3& x = nodes_[v];
+  const Vec3 d{p[0] - x[0], p[1] - x[1], p[2] - x[2]};
+  return std::min(max_size_, sizes_[v] + kSizeGrading * std::sqrt(dot(d, d)));
+}
 
 std::int32_t FrameField3D::nearest_vertex(const Vec3& p) const {
   std::int32_t best = -1;

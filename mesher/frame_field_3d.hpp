@@ -1,5 +1,6 @@
 // 3D frame and size fields (paper, "Cross fields"): the frame at any point of the volume is the
-// frame of the nearest surface vertex, and so is the size. Built once, queried millions of times.
+// frame of the nearest surface vertex; the size is that vertex's, graded with the distance from
+// it (size_at). Built once, queried millions of times.
 #pragma once
 
 #include <array>
@@ -27,11 +28,19 @@ class FrameField3D {
   std::int32_t nearest_vertex(const Vec3& p) const;
   const Frame& vertex_frame(std::int32_t v) const { return frames_[v]; }
   double vertex_size(std::int32_t v) const { return sizes_[v]; }
+  // The size at p, whose nearest surface vertex is v: v's size grown by kSizeGrading per unit of
+  // distance from v, up to the largest surface size. A vertex made small by a tiny CAD feature
+  // thus sets the size only near it, not over the whole region of the volume nearest to it
+  // (MVE at h = 9.55: 1.77M interior points, 90 % of them at one vertex's size 0.14, without it).
+  double size_at(const Vec3& p, std::int32_t v) const;
+  static constexpr double kSizeGrading = 0.3;
 
  private:
   struct Index;
   std::vector<Frame> frames_;
   std::vector<double> sizes_;
+  std::vector<Vec3> nodes_;
+  double max_size_ = 0;
   std::unique_ptr<Index> index_;
 };
 

@@ -71,19 +71,23 @@ class Cloud {
 struct Candidate {
   Vec3 pos;
   std::int32_t parent;
-  std::int32_t nearest = -1;  // surface vertex giving the size
-  std::int32_t framer = -1;   // surface vertex giving the frame
-  std::int32_t solid = 0;     // 0: rejected
+  double size = 0;           // the size there (FrameField3D::size_at)
+  std::int32_t framer = -1;  // surface vertex giving the frame
+  std::int32_t solid = 0;    // 0: rejected
 };
 
 VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
                      const SolidLocator& locator, double k, bool inherit_frame) {
   const std::size_t ns = surface.mesh.nodes.size();
   Cloud cloud(surface.mesh.nodes);
-  // Per cloud point: the surface vertices whose size and frame it uses, and its solid (0 =
+  // Per cloud point: its size, the surface vertex whose frame it uses, and its solid (0 =
   // surface).
-  std::vector<std::int32_t> nearest(ns), framer(ns), solid(ns, 0);
-  for (std::size_t v = 0; v < ns; ++v) nearest[v] = framer[v] = static_cast<std::int32_t>(v);
+  std::vector<double> size(ns);
+  std::vector<std::int32_t> framer(ns), solid(ns, 0);
+  for (std::size_t v = 0; v < ns; ++v) {
+    size[v] = field.vertex_size(static_cast<std::int32_t>(v));
+    framer[v] = static_cast<std::int32_t>(v);
+  }
   std::vector<std::int32_t> queue(ns);
   for (std::size_t v = 0; v < ns; ++v) queue[v] = static_cast<std::int32_t>(v);
   // A surface node that no triangle uses would grow points outside: skip it.
@@ -110,23 +114,24 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       Candidate& c = cands[i];
       const int j = static_cast<int>(i % 6);
       const Vec3& x = cloud.point(c.parent);
-      const std::int32_t pv = nearest[c.parent];
       const Frame& pf = field.vertex_frame(framer[c.parent]);
-      const double hp = field.vertex_size(pv);
+      const double hp = size[c.parent];
       const double sign = (j % 2) ? -1.0 : 1.0;
       const Vec3& dir = pf[j / 2];
       Vec3 trial;
       for (int a = 0; a < 3; ++a) trial[a] = x[a] + sign * hp * dir[a];
       std::int32_t nv = field.nearest_vertex(trial);
-      const double d = 0.5 * (hp + field.vertex_size(nv));
+      double hc = field.size_at(trial, nv);
+      const double d = 0.5 * (hp + hc);
       if (d != hp) {
         for (int a = 0; a < 3; ++a) trial[a] = x[a] + sign * d * dir[a];
         nv = field.nearest_vertex(trial);
+        hc = field.size_at(trial, nv);
       }
       c.pos = trial;
-      c.nearest = nv;
+      c.size = hc;
       c.framer = inherit_frame ? framer[c.parent] : nv;
-      const double r = k * field.vertex_size(nv);
+      const double r = k * hc;
       if (cloud.excluded(trial, field.vertex_frame(c.framer), r)) continue;
       if (solid[c.parent] > 0) {
         const int s = solid[c.parent];
@@ -145,10 +150,10 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
     for (const Candidate& c : cands) {
       ++out.candidates;
       if (c.solid == 0) continue;
-      const double r = k * field.vertex_size(c.nearest);
+      const double r = k * c.size;
       if (cloud.size() > before && cloud.excluded(c.pos, field.vertex_frame(c.framer), r)) continue;
       const std::int32_t id = cloud.add(c.pos);
-      nearest.push_back(c.nearest);
+      size.push_back(c.size);
       framer.push_back(c.framer);
       solid.push_back(c.solid);
       queue.push_back(id);
@@ -196,7 +201,7 @@ VolumePoints random_points(const SurfaceMesh& surface, const FrameField3D& field
     ++out.candidates;
     ++misses;
     const std::int32_t nv = field.nearest_vertex(p);
-    const double r = k * field.vertex_size(nv);
+    const double r = k * field.size_at(p, nv);
     if (cloud.excluded(p, field.vertex_frame(nv), r)) continue;
     const int s = locator.locate(p);
     if (s == 0 || locator.near_boundary(s, p, r)) continue;
@@ -214,7 +219,7 @@ void jitter_points(VolumePoints& vp, const FrameField3D& field, double amount) {
   if (amount <= 0) return;
   for (std::size_t i = 0; i < vp.points.size(); ++i) {
     SplitMix rng{0x5EED0000ull + i};
-    const double h = field.vertex_size(field.nearest_vertex(vp.points[i]));
+    const double h = field.size_at(vp.points[i], field.nearest_vertex(vp.points[i]));
     for (int a = 0; a < 3; ++a) vp.points[i][a] += amount * h * (2 * rng.uniform() - 1);
   }
 }

@@ -94,6 +94,19 @@ TEST(FrameField3D, NearestVertexFrameAndSize) {
   EXPECT_THROW(FrameField3D{bad}, Error);
 }
 
+TEST(FrameField3D, SizeGrowsAwayFromASmallVertexUpToTheLargestSize) {
+  SurfaceMesh s = synthetic::cylinder_surface(1.0, 2.0, 0.25);
+  const std::int32_t v = 5;
+  s.size[v] = 0.01;  // as at a tiny CAD feature
+  const FrameField3D f(s);
+  const Vec3 x = s.mesh.nodes[v];
+  EXPECT_DOUBLE_EQ(f.size_at(x, v), 0.01);
+  // 0.1 away: 0.01 + 0.3 * 0.1 by hand; far away: capped by the largest surface size 0.25.
+  const Vec3 near{x[0], x[1], x[2] + 0.1}, far{x[0], x[1], x[2] + 5};
+  EXPECT_NEAR(f.size_at(near, v), 0.04, 1e-12);
+  EXPECT_DOUBLE_EQ(f.size_at(far, v), 0.25);
+}
+
 // On a box whose surface nodes are a lattice of step h with frames = axes, the frontal insertion
 // must fill exactly the interior lattice points.
 TEST(VolumePoints, FrontalFillsTheBoxLattice) {
