@@ -4,6 +4,7 @@
 #include <boost/geometry.hpp>
 #include <boost/geometry/index/rtree.hpp>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -76,18 +77,22 @@ double FrameField3D::size_at(const Vec3& p, std::int32_t v) const {
   return std::min(max_size_, sizes_[v] + kSizeGrading * std::sqrt(dot(d, d)));
 }
 
-std::int32_t FrameField3D::nearest_vertex(const Vec3& p) const {
+std::int32_t FrameField3D::nearest_vertex(const Vec3& p, double* margin) const {
   std::int32_t best = -1;
-  double best_d2 = 0;
+  double d2[2] = {0, std::numeric_limits<double>::infinity()};
   // Ask for two so that an exact tie is broken by the lower index, not by the tree layout.
   for (auto it = index_->tree.qbegin(bgi::nearest(RPoint(p[0], p[1], p[2]), 2));
        it != index_->tree.qend(); ++it) {
-    const double d2 = bg::comparable_distance(it->first, RPoint(p[0], p[1], p[2]));
-    if (best < 0 || d2 < best_d2 || (d2 == best_d2 && it->second < best)) {
+    const double d = bg::comparable_distance(it->first, RPoint(p[0], p[1], p[2]));
+    if (best < 0 || d < d2[0] || (d == d2[0] && it->second < best)) {
+      if (best >= 0) d2[1] = d2[0];
       best = it->second;
-      best_d2 = d2;
+      d2[0] = d;
+    } else {
+      d2[1] = std::min(d2[1], d);
     }
   }
+  if (margin) *margin = 0.5 * (std::sqrt(d2[1]) - std::sqrt(d2[0]));
   return best;
 }
 

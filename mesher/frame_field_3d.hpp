@@ -24,8 +24,9 @@ class FrameField3D {
   FrameField3D(const FrameField3D&) = delete;
   FrameField3D& operator=(const FrameField3D&) = delete;
 
-  // The surface vertex nearest to p (Euclidean). Thread-safe.
-  std::int32_t nearest_vertex(const Vec3& p) const;
+  // The surface vertex nearest to p (Euclidean). Thread-safe. With `margin`: how far p may move
+  // and keep that nearest vertex (half the gap between the nearest and second-nearest distances).
+  std::int32_t nearest_vertex(const Vec3& p, double* margin = nullptr) const;
   const Frame& vertex_frame(std::int32_t v) const { return frames_[v]; }
   double vertex_size(std::int32_t v) const { return sizes_[v]; }
   // The size at p, whose nearest surface vertex is v: v's size grown by kSizeGrading per unit of

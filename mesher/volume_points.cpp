@@ -120,12 +120,14 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       const Vec3& dir = pf[j / 2];
       Vec3 trial;
       for (int a = 0; a < 3; ++a) trial[a] = x[a] + sign * hp * dir[a];
-      std::int32_t nv = field.nearest_vertex(trial);
+      double margin = 0;
+      std::int32_t nv = field.nearest_vertex(trial, &margin);
       double hc = field.size_at(trial, nv);
       const double d = 0.5 * (hp + hc);
       if (d != hp) {
         for (int a = 0; a < 3; ++a) trial[a] = x[a] + sign * d * dir[a];
-        nv = field.nearest_vertex(trial);
+        // A move shorter than the margin keeps the nearest vertex: no second query.
+        if (!(std::abs(d - hp) < margin)) nv = field.nearest_vertex(trial);
         hc = field.size_at(trial, nv);
       }
       c.pos = trial;
