@@ -49,7 +49,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
 
   // What we emit is valid, or nothing is: an inverted or flat cell or an open boundary would
   // give wrong frequencies downstream without any sign of it.
-  r.stats = compute_stats(mesh);
+  r.stats = r.volume.stats;
   const MeshStats& stats = r.stats;
   if (stats.inverted > 0 || stats.degenerate > 0 || !stats.watertight)
     throw Error("the volume mesher produced an invalid mesh (" + std::to_string(stats.inverted) +

@@ -299,7 +299,8 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   // Where the gap comes from: each element against its own tets, and the absorbed slivers.
   for (const Candidate& e : elements) r.volume_elements_gap += element_gap(topo, e);
   for (std::int32_t t : absorbed) r.volume_absorbed += topo.tet_volume(t);
-  const MeshStats st = compute_stats(mesh);
+  r.stats = compute_stats(mesh);
+  const MeshStats& st = r.stats;
   r.vertices = st.num_nodes;
   r.cells = st.cells_per_kind;
   r.num_cells = st.num_cells;

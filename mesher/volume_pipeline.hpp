@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
 #include "mesher/surface_mesh.hpp"
 
@@ -83,6 +84,7 @@ struct VolumeReport {
   // pyramids it made on the faces left (recombine_conformity.hpp).
   std::size_t nc_faces_before_repair = 0, nc_faces_after_repair = 0, nc_repair_pyramids = 0;
   std::array<std::size_t, kNumCellKinds> nc_undone{};
+  MeshStats stats;  // of the mesh returned (the figures above come from it)
   std::vector<Stage> stages;
   double total_seconds = 0, total_cpu_seconds = 0;
   int threads = 1;
