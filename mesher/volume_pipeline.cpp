@@ -417,13 +417,14 @@ std::string volume_report_text(const VolumeReport& r) {
        std::abs(r.volume_gap_before), r.gap_undone[static_cast<int>(CellKind::Hex8)],
        r.gap_undone[static_cast<int>(CellKind::Wedge6)],
        r.gap_undone[static_cast<int>(CellKind::Pyramid5)]);
-  line(
-      "nc repair       %zu -> %zu NC faces: undid %zu hex, %zu prism, %zu pyramid; %zu pyramids "
-      "made",
-      r.nc_faces_before_repair, r.nc_faces_after_repair,
-      r.nc_undone[static_cast<int>(CellKind::Hex8)],
-      r.nc_undone[static_cast<int>(CellKind::Wedge6)],
-      r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids);
+  if (r.nc_faces_before_repair > 0)  // not with --no-nc-repair
+    line(
+        "nc repair       %zu -> %zu NC faces: undid %zu hex, %zu prism, %zu pyramid; %zu pyramids "
+        "made",
+        r.nc_faces_before_repair, r.nc_faces_after_repair,
+        r.nc_undone[static_cast<int>(CellKind::Hex8)],
+        r.nc_undone[static_cast<int>(CellKind::Wedge6)],
+        r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids);
   for (const auto& st : r.stages)
     line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);
   line("time total                 %8.3f s wall %8.3f s cpu (%d threads)", r.total_seconds,
