@@ -100,15 +100,32 @@ NcRepair undo_nonconformal_elements(const TetTopology& topo, std::vector<Candida
   std::vector<Across> across = faces_across(topo, elements);
   std::vector<char> gone(elements.size(), 0);
   r.nc_before = count_nc(elements, across, gone);
-  // 1: every tet it gives back is good enough to stand alone, 0: not, -1: not known yet.
+  // Absorbed slivers by their sorted corners: undoing an element frees those on its faces.
+  std::vector<std::pair<QuadKey, std::int32_t>> slivers;
+  for (std::int32_t t : absorbed) {
+    QuadKey k = topo.mesh().tets[t];
+    std::sort(k.begin(), k.end());
+    slivers.push_back({k, t});
+  }
+  std::sort(slivers.begin(), slivers.end());
+  // 1: every tet it gives back, slivers on its faces included, is good enough to stand alone;
+  // 0: not; -1: not known yet.
   std::vector<signed char> good(elements.size(), -1);
   auto gives_back_good_tets = [&](std::int32_t i) {
-    if (good[i] < 0) {
-      good[i] = 1;
-      for (std::int32_t t : elements[i].tets)
-        if (t >= 0 && tet_quality(topo, t) < keep_sj) good[i] = 0;
+    if (good[i] >= 0) return good[i] == 1;
+    const Candidate& e = elements[i];
+    bool ok = true;
+    for (std::int32_t t : e.tets) ok = ok && (t < 0 || tet_quality(topo, t) >= keep_sj);
+    const CellFaces cf = faces_of(e.kind);
+    for (int f = 0; f < cf.count && ok; ++f) {
+      if (cf.face[f].n != 4) continue;
+      const QuadKey k = quad_key(e, f);
+      auto it = std::lower_bound(slivers.begin(), slivers.end(), std::make_pair(k, -1));
+      for (; it != slivers.end() && it->first == k && ok; ++it)
+        ok = tet_quality(topo, it->second) >= keep_sj;
     }
-    return good[i] == 1;
+    good[i] = ok ? 1 : 0;
+    return ok;
   };
   // Undoing changes its neighbours' counts: rounds, no two neighbours in one.
   for (;;) {

@@ -83,5 +83,11 @@ TEST(ControlArm, CoarseAndFineHaveNoFlatCellsAndAClosedBoundary) {
   check_part(arm, 5.04862, 0.002);
 }
 
+// The NC repair once undid a prism with a flat sliver absorbed on its face: the freed sliver
+// stayed a flat cell (cone at h = bbox diagonal / 60).
+TEST(Cone, NcRepairFreesNoFlatSliver) {
+  check_part(std::string(HEXFEM_TEST_DATA) + "/Cone_1.brep", 6.87184, 1e-3);
+}
+
 }  // namespace
 }  // namespace hexfem
