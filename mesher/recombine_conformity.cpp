@@ -178,21 +178,19 @@ NcRepair undo_nonconformal_elements(const TetTopology& topo, std::vector<Candida
       }
     }
   }
+  r.nc_after = count_nc(elements, across, gone);
   std::size_t k = 0;
   for (std::size_t i = 0; i < elements.size(); ++i)
     if (!gone[i]) elements[k++] = elements[i];
   elements.resize(k);
   release_orphan_slivers(topo, elements, absorbed, used, flat_sj);
-  // The partners' faces left facing tets: pyramids on them match them again.
-  if (!make_pyramids) {
-    r.nc_after = count_nc_faces(topo, elements);
-    return r;
-  }
+  if (!make_pyramids) return r;
+  // The partners' faces left facing tets: a pyramid on one matches it (each sits on an NC face).
   std::vector<Candidate> pyramids = enumerate_pyramids(topo, elements, used, min_pyramid);
   const std::vector<Candidate> kept = place_pyramids(pyramids, used);
   r.pyramids_added = kept.size();
+  r.nc_after -= kept.size();
   elements.insert(elements.end(), kept.begin(), kept.end());
-  r.nc_after = count_nc_faces(topo, elements);
   return r;
 }
 

@@ -129,57 +129,67 @@ std::vector<Candidate> enumerate_pyramids(const TetTopology& topo,
   const std::vector<QuadKey> quads = sorted_quad_keys(elements);
   std::vector<Candidate> out;
   const auto& X = topo.mesh().nodes;
-  for (const Candidate& e : elements) {
-    const CellFaces cf = faces_of(e.kind);
-    for (int f = 0; f < cf.count; ++f) {
-      const LocalFace& lf = cf.face[f];
-      if (lf.n != 4) continue;
-      std::array<std::int32_t, 4> q;
-      for (int i = 0; i < 4; ++i) q[i] = e.nodes[lf.v[i]];
-      if (quad_shared(quads, quad_key(e, f))) continue;
-      // The two triangles of the face, split along the diagonal the element's tets use; past a
-      // flat sliver on the face, along the other diagonal.
-      std::array<std::int32_t, 3> t1, t2;
-      auto split = [&](int diagonal) {
-        if (diagonal == 0) {
-          t1 = {q[0], q[1], q[2]};
-          t2 = {q[0], q[2], q[3]};
-        } else {
-          t1 = {q[0], q[1], q[3]};
-          t2 = {q[1], q[2], q[3]};
+  const auto n = static_cast<std::ptrdiff_t>(elements.size());
+#pragma omp parallel
+  {
+    std::vector<Candidate> local;
+#pragma omp for schedule(static, 1024) nowait
+    for (std::ptrdiff_t ei = 0; ei < n; ++ei) {
+      const Candidate& e = elements[ei];
+      const CellFaces cf = faces_of(e.kind);
+      for (int f = 0; f < cf.count; ++f) {
+        const LocalFace& lf = cf.face[f];
+        if (lf.n != 4) continue;
+        std::array<std::int32_t, 4> q;
+        for (int i = 0; i < 4; ++i) q[i] = e.nodes[lf.v[i]];
+        if (quad_shared(quads, quad_key(e, f))) continue;
+        // The two triangles of the face, split along the diagonal the element's tets use; past a
+        // flat sliver on the face, along the other diagonal.
+        std::array<std::int32_t, 3> t1, t2;
+        auto split = [&](int diagonal) {
+          if (diagonal == 0) {
+            t1 = {q[0], q[1], q[2]};
+            t2 = {q[0], q[2], q[3]};
+          } else {
+            t1 = {q[0], q[1], q[3]};
+            t2 = {q[1], q[2], q[3]};
+          }
+        };
+        const int diagonal = quad_diagonal(topo, e, f);
+        split(diagonal);
+        if (topo.surface_triangle(t1[0], t1[1], t1[2]) >= 0) continue;  // a boundary quad
+        std::int32_t a = tet_across(topo, e, -1, t1[0], t1[1], t1[2]);
+        std::int32_t b = tet_across(topo, e, -1, t2[0], t2[1], t2[2]);
+        std::int32_t sliver = -1;
+        if (a >= 0 && a == b && face_sliver_of(e.kind, e.nodes.data(), topo.mesh().tets[a]) == f) {
+          sliver = a;  // the pyramid takes it: its bilinear base cuts it where the face does
+          if (used[sliver]) continue;
+          split(1 - diagonal);
+          a = tet_across(topo, e, sliver, t1[0], t1[1], t1[2]);
+          b = tet_across(topo, e, sliver, t2[0], t2[1], t2[2]);
         }
-      };
-      const int diagonal = quad_diagonal(topo, e, f);
-      split(diagonal);
-      if (topo.surface_triangle(t1[0], t1[1], t1[2]) >= 0) continue;  // a boundary quad
-      std::int32_t a = tet_across(topo, e, -1, t1[0], t1[1], t1[2]);
-      std::int32_t b = tet_across(topo, e, -1, t2[0], t2[1], t2[2]);
-      std::int32_t sliver = -1;
-      if (a >= 0 && a == b && face_sliver_of(e.kind, e.nodes.data(), topo.mesh().tets[a]) == f) {
-        sliver = a;  // the pyramid takes it: its bilinear base cuts it where the face does
-        if (used[sliver]) continue;
-        split(1 - diagonal);
-        a = tet_across(topo, e, sliver, t1[0], t1[1], t1[2]);
-        b = tet_across(topo, e, sliver, t2[0], t2[1], t2[2]);
+        if (a < 0 || b < 0 || a == b || used[a] || used[b]) continue;
+        if (topo.mesh().tet_solid[a] != topo.mesh().tet_solid[b]) continue;
+        const std::int32_t apex = apex_of(topo, a, t1[0], t1[1], t1[2]);
+        if (apex != apex_of(topo, b, t2[0], t2[1], t2[2])) continue;
+        // Base in the element's outward order: the pyramid's own base face (0,3,2,1) then points
+        // back into the element, i.e. out of the pyramid.
+        Candidate c;
+        c.kind = CellKind::Pyramid5;
+        c.nodes = {q[0], q[1], q[2], q[3], apex, -1, -1, -1};
+        c.tets = {std::min(a, b), std::max(a, b), sliver, -1, -1, -1, -1};
+        Vec3 x[5];
+        for (int i = 0; i < 5; ++i) x[i] = X[c.nodes[i]];
+        const double qual = min_scaled_jacobian(CellKind::Pyramid5, x);
+        if (!(qual > 0 && qual >= min_quality)) continue;
+        c.quality = static_cast<float>(qual);
+        local.push_back(c);
       }
-      if (a < 0 || b < 0 || a == b || used[a] || used[b]) continue;
-      if (topo.mesh().tet_solid[a] != topo.mesh().tet_solid[b]) continue;
-      const std::int32_t apex = apex_of(topo, a, t1[0], t1[1], t1[2]);
-      if (apex != apex_of(topo, b, t2[0], t2[1], t2[2])) continue;
-      // Base in the element's outward order: the pyramid's own base face (0,3,2,1) then points
-      // back into the element, i.e. out of the pyramid.
-      Candidate c;
-      c.kind = CellKind::Pyramid5;
-      c.nodes = {q[0], q[1], q[2], q[3], apex, -1, -1, -1};
-      c.tets = {std::min(a, b), std::max(a, b), sliver, -1, -1, -1, -1};
-      Vec3 x[5];
-      for (int i = 0; i < 5; ++i) x[i] = X[c.nodes[i]];
-      const double qual = min_scaled_jacobian(CellKind::Pyramid5, x);
-      if (!(qual > 0 && qual >= min_quality)) continue;
-      c.quality = static_cast<float>(qual);
-      out.push_back(c);
     }
+#pragma omp critical
+    out.insert(out.end(), local.begin(), local.end());
   }
+  // Distinct candidates, totally ordered: the order does not depend on the threads.
   std::sort(out.begin(), out.end());
   return out;
 }

@@ -165,6 +165,7 @@ TEST(NcRepair, LoneHexAmongTetsGoesBack) {
   EXPECT_EQ(nr.nc_before, 6u);
   EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 1u);
   EXPECT_EQ(nr.nc_after, 0u);
+  EXPECT_EQ(count_nc_faces(topo, R.hexes), nr.nc_after);
   EXPECT_TRUE(R.hexes.empty());
   for (char u : R.used) EXPECT_FALSE(u);  // its six tets are free again
 }
@@ -181,6 +182,7 @@ TEST(NcRepair, HexLayerOnTheSurfaceStays) {
   EXPECT_EQ(nr.nc_before, 9u);
   EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 0u);
   EXPECT_EQ(nr.nc_after, 9u);
+  EXPECT_EQ(count_nc_faces(topo, R.hexes), nr.nc_after);
   EXPECT_EQ(R.hexes.size(), 9u);
 }
 
@@ -197,6 +199,7 @@ TEST(NcRepair, HexStickingOutOfALayerGoesBack) {
   EXPECT_EQ(nr.nc_before, 8u + 5u);  // the middle of the layer is matched by the cube on top
   EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 1u);
   EXPECT_EQ(nr.nc_after, 9u);
+  EXPECT_EQ(count_nc_faces(topo, R.hexes), nr.nc_after);
   EXPECT_EQ(R.hexes.size(), 9u);
 }
 
