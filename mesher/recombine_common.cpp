@@ -505,7 +505,10 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
                                               const std::vector<Candidate>& elements,
                                               std::vector<char>& used, SliverPolicy policy,
                                               double flat_sj) {
-  const std::vector<QuadKey> quads = sorted_quad_keys(elements);
+  // Only the first policy asks whether a face is shared, and only for faces with a sliver.
+  const std::vector<QuadKey> quads = policy == SliverPolicy::kSharedOrBoundary
+                                         ? sorted_quad_keys(elements)
+                                         : std::vector<QuadKey>{};
   std::vector<std::int32_t> out;
   for (const Candidate& e : elements) {
     const CellFaces cf = faces_of(e.kind);
@@ -513,7 +516,6 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
       const LocalFace& lf = cf.face[f];
       if (lf.n != 4) continue;
       const QuadKey k = quad_key(e, f);
-      const bool shared = quad_shared(quads, k);
       // A tet on the face's four corners has the lowest of them as its lowest vertex.
       for (auto u = topo.upper_begin(k[0]); u != topo.upper_end(k[0]); ++u) {
         std::int32_t o[3] = {u->v[0], u->v[1], u->v[2]};
@@ -526,7 +528,7 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
           for (int skip = 0; skip < 4; ++skip)
             on_surface +=
                 topo.surface_triangle(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]) >= 0;
-          if (!shared && on_surface < 2) continue;
+          if (on_surface < 2 && !quad_shared(quads, k)) continue;
         } else if (!(tet_quality(topo, t) < flat_sj)) {
           continue;
         }
