@@ -371,7 +371,9 @@ void ConformityIndex::add(const Candidate& c) {
     edges_.insert(edge_key(c.nodes[el.e[e][0]], c.nodes[el.e[e][1]]));
 }
 
-void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScratch& scratch) {
+void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScratch& scratch,
+              const std::vector<char>* used) {
+  auto taken = [&](std::int32_t t) { return used && (*used)[t]; };
   const TetMesh& m = topo.mesh();
   auto& q = scratch.quads;
   q.clear();
@@ -390,6 +392,7 @@ void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScrat
   auto& pairs = scratch.pairs;
   pairs.clear();
   for (auto it = topo.star_begin(v); it != topo.star_end(v); ++it) {
+    if (taken(*it)) continue;
     std::int32_t up[3];
     int n = 0;
     for (std::int32_t w : m.tets[*it])
@@ -417,8 +420,9 @@ void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScrat
         } else if (*t < *s) {
           ++t;
         } else {
-          for (std::int32_t x : m.tets[*s])
-            if (x != a && x != b && x > v) q.push_back({a, b, x});
+          if (!taken(*s))
+            for (std::int32_t x : m.tets[*s])
+              if (x != a && x != b && x > v) q.push_back({a, b, x});
           ++s;
           ++t;
         }

@@ -125,8 +125,10 @@ struct FillScratch {  // per-thread work memory of the enumerations
 // Every potential quad face at v whose three other corners are above v (the enumerations find
 // each element from its lowest vertex) and whose corner at v has |sin| >= min_sin: sorted,
 // unique, in scratch.quads. Every face of a hex or prism made of tets is one (its two triangles
-// are tet faces), so enumerating from these misses nothing.
-void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScratch& scratch);
+// are tet faces), so enumerating from these misses nothing. With `used`: only quads whose two
+// triangles are faces of free tets.
+void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScratch& scratch,
+              const std::vector<char>* used = nullptr);
 // The opposite corners x of the quads (v, a, x, b) in scratch.quads (a < b).
 std::pair<const CornerQuad*, const CornerQuad*> quads_between(const FillScratch& scratch,
                                                               std::int32_t a, std::int32_t b);

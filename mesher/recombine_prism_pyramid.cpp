@@ -25,7 +25,8 @@ void prisms_from(const TetTopology& topo, const std::vector<char>& used, std::in
   auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
     return corner_jacobian(X[o], X[a], X[b], X[c]) >= raw_min;
   };
-  quads_at(topo, v, raw_min, scratch);
+  // A prism's quad faces are faces of its tets, which must be free: quads of free tets only.
+  quads_at(topo, v, raw_min, scratch, &used);
   // Partners of each vertex through a quad at v (both directions), sorted.
   std::vector<std::pair<std::int32_t, std::int32_t>> partner;
   for (const CornerQuad& q : scratch.quads) {
