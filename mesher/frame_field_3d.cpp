@@ -80,13 +80,15 @@ double FrameField3D::size_at(const Vec3& p, std::int32_t v) const {
 std::int32_t FrameField3D::nearest_vertex(const Vec3& p, double* margin) const {
   std::int32_t best = -1;
   double d2[2] = {0, std::numeric_limits<double>::infinity()};
-  // Ask for two so that an exact tie is broken by the lower index, not by the tree layout.
-  for (auto it = index_->tree.qbegin(bgi::nearest(RPoint(p[0], p[1], p[2]), 2));
-       it != index_->tree.qend(); ++it) {
-    const double d = bg::comparable_distance(it->first, RPoint(p[0], p[1], p[2]));
-    if (best < 0 || d < d2[0] || (d == d2[0] && it->second < best)) {
+  // Ask for two so that an exact tie is broken by the lower index, not by the tree layout. The
+  // one-shot query is much cheaper than the incremental iterator (qbegin).
+  RValue two[2];
+  const std::size_t n = index_->tree.query(bgi::nearest(RPoint(p[0], p[1], p[2]), 2), two);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = bg::comparable_distance(two[i].first, RPoint(p[0], p[1], p[2]));
+    if (best < 0 || d < d2[0] || (d == d2[0] && two[i].second < best)) {
       if (best >= 0) d2[1] = d2[0];
-      best = it->second;
+      best = two[i].second;
       d2[0] = d;
     } else {
       d2[1] = std::min(d2[1], d);
