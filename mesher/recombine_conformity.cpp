@@ -36,7 +36,9 @@ std::vector<Across> faces_across(const TetTopology& topo, const std::vector<Cand
     std::int32_t element;
     std::int8_t face;
     bool operator<(const Owner& o) const {
-      return key != o.key ? key < o.key : element < o.element;
+      for (int i = 0; i < 4; ++i)
+        if (key[i] != o.key[i]) return key[i] < o.key[i];
+      return element < o.element;
     }
   };
   std::vector<Owner> owners;
