@@ -452,8 +452,7 @@ std::pair<const CornerQuad*, const CornerQuad*> quads_between(const FillScratch&
 }
 
 std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find) {
-  std::vector<Candidate> all;
-  std::vector<std::size_t> runs{0};  // each thread's candidates, sorted, then merged
+  std::vector<std::vector<Candidate>> runs;  // each thread's candidates, sorted, then merged
 #pragma omp parallel
   {
     std::vector<Candidate> local;
@@ -462,16 +461,43 @@ std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindC
     for (std::int32_t v = 0; v < num_vertices; ++v) find(v, scratch, local);
     std::sort(local.begin(), local.end());
 #pragma omp critical
-    {
-      all.insert(all.end(), local.begin(), local.end());
-      runs.push_back(all.size());
-    }
+    runs.push_back(std::move(local));
   }
   // Candidates are distinct and totally ordered: the merged order does not depend on which
   // thread found what.
-  for (std::size_t r = 2; r < runs.size(); ++r)
-    std::inplace_merge(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(runs[r - 1]),
-                       all.begin() + static_cast<std::ptrdiff_t>(runs[r]));
+  std::vector<Candidate> all;
+  if (runs.size() == 2) {
+    // Two runs (two threads): each thread merges one half of the output, split where the first
+    // k merged elements end (binary search on the merge path).
+    const std::vector<Candidate>&A = runs[0], &B = runs[1];
+    const std::size_t na = A.size(), nb = B.size(), k = (na + nb) / 2;
+    std::size_t lo = k > nb ? k - nb : 0, hi = std::min(k, na);
+    while (lo < hi) {
+      const std::size_t mid = (lo + hi) / 2;
+      if (A[mid] < B[k - mid - 1])
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    const std::size_t i = lo, j = k - lo;
+    all.resize(na + nb);
+#pragma omp parallel sections
+    {
+#pragma omp section
+      std::merge(A.begin(), A.begin() + i, B.begin(), B.begin() + j, all.begin());
+#pragma omp section
+      std::merge(A.begin() + i, A.end(), B.begin() + j, B.end(), all.begin() + k);
+    }
+    return all;
+  }
+  std::vector<std::size_t> ends{0};
+  for (const auto& r : runs) {
+    all.insert(all.end(), r.begin(), r.end());
+    ends.push_back(all.size());
+  }
+  for (std::size_t r = 2; r < ends.size(); ++r)
+    std::inplace_merge(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(ends[r - 1]),
+                       all.begin() + static_cast<std::ptrdiff_t>(ends[r]));
   return all;
 }
 
