@@ -82,6 +82,7 @@ class OpenHashSet {
   bool insert(const Key& key) { return map_.emplace(key, NoValue{}); }
   bool contains(const Key& key) const { return map_.contains(key); }
   std::size_t size() const { return map_.size(); }
+  void reserve(std::size_t n) { map_.reserve(n); }
 
  private:
   OpenHashMap<Key, NoValue, Hash> map_;

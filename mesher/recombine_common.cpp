@@ -356,6 +356,12 @@ bool ConformityIndex::conflicts(const Candidate& c) const {
   return bad;
 }
 
+void ConformityIndex::reserve(std::size_t n) {
+  quad_of_triple_.reserve(24 * n);  // 6 quads, 4 triples each
+  diagonals_.reserve(12 * n);
+  edges_.reserve(12 * n);
+}
+
 void ConformityIndex::add(const Candidate& c) {
   for_each_face(c, [&](const std::int32_t* q, int n) {
     if (n == 3) {

@@ -152,6 +152,8 @@ class ConformityIndex {
  public:
   bool conflicts(const Candidate& c) const;
   void add(const Candidate& c);
+  // Room for about n hexes, so the tables do not grow (rehash) while elements are placed.
+  void reserve(std::size_t n);
 
  private:
   // Three vertices of a placed quad -> its fourth vertex.

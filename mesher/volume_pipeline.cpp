@@ -199,6 +199,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   const TetTopology topo(tets, surface);
   std::vector<char> used(tets.tets.size(), 0);
   ConformityIndex index;
+  index.reserve(tets.tets.size() / 6);  // at most one hex per six tets, about
   HexOptions ho;
   ho.min_quality = options.min_quality;
   ho.fill.max_volume_gap = options.max_volume_gap;
