@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/error.hpp"
 #include "mesher/mesh/quality.hpp"
 
 namespace hexfem {
@@ -45,17 +46,6 @@ EdgeList edges_of(CellKind kind) {
 }
 
 }  // namespace
-
-double corner_jacobian(const Vec3& o, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 e1 = sub(a, o), e2 = sub(b, o), e3 = sub(c, o);
-  const double det = e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) -
-                     e1[1] * (e2[0] * e3[2] - e2[2] * e3[0]) +
-                     e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]);
-  const double len = std::sqrt((e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]) *
-                               (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]) *
-                               (e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2]));
-  return len > 0 ? det / len : 0.0;
-}
 
 TetTopology::TetTopology(const TetMesh& tets, const SurfaceMesh& surface) : mesh_(tets) {
   const std::size_t nv = tets.nodes.size(), nt = tets.tets.size();
@@ -377,12 +367,18 @@ void ConformityIndex::add(const Candidate& c) {
     edges_.insert(edge_key(c.nodes[el.e[e][0]], c.nodes[el.e[e][1]]));
 }
 
+std::uint32_t next_near_epoch(FillScratch& scratch) {
+  if (++scratch.near_epoch == 0) {  // wrapped: forget every old mark
+    std::fill(scratch.near.begin(), scratch.near.end(), 0);
+    scratch.near_epoch = 1;
+  }
+  return scratch.near_epoch;
+}
+
 void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScratch& scratch,
               const std::vector<char>* used) {
   auto taken = [&](std::int32_t t) { return used && (*used)[t]; };
   const TetMesh& m = topo.mesh();
-  auto& q = scratch.quads;
-  q.clear();
   const Vec3& pv = m.nodes[v];
   auto corner_ok = [&](std::int32_t a, std::int32_t b) {
     const Vec3 ea = sub(m.nodes[a], pv), eb = sub(m.nodes[b], pv);
@@ -393,58 +389,82 @@ void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScrat
     const double bb = eb[0] * eb[0] + eb[1] * eb[1] + eb[2] * eb[2];
     return cc >= min_sin * min_sin * aa * bb;
   };
+  // The corners a, b of the quads are v's neighbours above v: numbered 0..n-1 in increasing
+  // order, so that keys packed from those numbers sort like the vertex ids.
+  const std::int32_t* up = std::upper_bound(topo.neighbours_begin(v), topo.neighbours_end(v), v);
+  const auto n_up = static_cast<std::size_t>(topo.neighbours_end(v) - up);
+  if (n_up >= (1u << 16)) throw Error("a vertex of the tet mesh has over 65535 neighbours");
+  scratch.up = up;
+  scratch.num_up = n_up;
+  if (scratch.local.size() != m.nodes.size()) scratch.local.assign(m.nodes.size(), 0);
+  const std::uint64_t stamp = ++scratch.local_epoch << 32;
+  for (std::size_t i = 0; i < n_up; ++i) scratch.local[up[i]] = stamp | i;
+  auto local = [&](std::int32_t w) { return static_cast<std::uint32_t>(scratch.local[w]); };
   // Ordered pairs (a, b) of vertices above v sharing a tet with v (the edges of v's link, both
-  // ways round), sorted.
+  // ways round), sorted, as (local a) << 16 | local b.
   auto& pairs = scratch.pairs;
   pairs.clear();
   for (auto it = topo.star_begin(v); it != topo.star_end(v); ++it) {
     if (taken(*it)) continue;
-    std::int32_t up[3];
+    std::uint32_t lu[3];
     int n = 0;
     for (std::int32_t w : m.tets[*it])
-      if (w > v) up[n++] = w;
+      if (w > v) lu[n++] = local(w);
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)
-        if (i != j) pairs.push_back({up[i], up[j]});
+        if (i != j) pairs.push_back(lu[i] << 16 | lu[j]);
   }
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  // Quads (a, b, x) as (local a) << 48 | (local b) << 32 | x.
+  auto& keys = scratch.keys;
+  keys.clear();
+  auto key = [](std::uint64_t la, std::uint64_t lb, std::int32_t x) {
+    return la << 48 | lb << 32 | static_cast<std::uint32_t>(x);
+  };
+  if (scratch.near.size() != m.nodes.size()) scratch.near.assign(m.nodes.size(), 0);
   for (std::size_t i = 0; i < pairs.size();) {
-    const std::int32_t a = pairs[i].first;
+    const std::uint32_t la = pairs[i] >> 16;
+    const std::int32_t a = up[la];
     std::size_t end = i;
-    while (end < pairs.size() && pairs[end].first == a) ++end;
-    // (1) Split along a-b: triangle (v, a, b) and (a, x, b) of any tet around edge a-b.
+    while (end < pairs.size() && pairs[end] >> 16 == la) ++end;
+    // (1) Split along a-b: triangle (v, a, b) and (a, x, b) of any tet around edge a-b. The
+    // partners b > a that make a good corner are marked; each tet around a holding one of them
+    // is a tet around that edge (one pass over a's star for all of a's partners).
+    const std::uint32_t epoch = next_near_epoch(scratch);
+    bool any = false;
     for (std::size_t k = i; k < end; ++k) {
-      const std::int32_t b = pairs[k].second;
-      if (b < a || !corner_ok(a, b)) continue;
-      // The tets around a-b: the stars of a and b are sorted, they share exactly those.
-      const std::int32_t *s = topo.star_begin(a), *se = topo.star_end(a);
-      const std::int32_t *t = topo.star_begin(b), *te = topo.star_end(b);
-      while (s != se && t != te) {
-        if (*s < *t) {
-          ++s;
-        } else if (*t < *s) {
-          ++t;
-        } else {
-          if (!taken(*s))
-            for (std::int32_t x : m.tets[*s])
-              if (x != a && x != b && x > v) q.push_back({a, b, x});
-          ++s;
-          ++t;
-        }
+      const std::int32_t b = up[pairs[k] & 0xffff];
+      if (b > a && corner_ok(a, b)) {
+        scratch.near[b] = epoch;
+        any = true;
       }
     }
+    if (any)
+      for (auto s = topo.star_begin(a); s != topo.star_end(a); ++s) {
+        if (taken(*s)) continue;
+        const auto& T = m.tets[*s];
+        for (std::int32_t b : T) {
+          if (scratch.near[b] != epoch) continue;
+          for (std::int32_t x : T)
+            if (x != a && x != b && x > v) keys.push_back(key(la, local(b), x));
+        }
+      }
     // (2) Split along v-x with x = a: triangles (v, b, a) and (v, a, c), b and c around edge
     // v-a (a's partners, sorted).
     for (std::size_t j = i; j < end; ++j)
       for (std::size_t k = j + 1; k < end; ++k) {
-        const std::int32_t b = pairs[j].second, c = pairs[k].second;
-        if (corner_ok(b, c)) q.push_back({b, c, a});
+        const std::uint32_t lb = pairs[j] & 0xffff, lc = pairs[k] & 0xffff;
+        if (corner_ok(up[lb], up[lc])) keys.push_back(key(lb, lc, a));
       }
     i = end;
   }
-  std::sort(q.begin(), q.end());
-  q.erase(std::unique(q.begin(), q.end()), q.end());
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  auto& q = scratch.quads;
+  q.resize(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    q[i] = {up[keys[i] >> 48], up[keys[i] >> 32 & 0xffff], static_cast<std::int32_t>(keys[i])};
 }
 
 std::pair<const CornerQuad*, const CornerQuad*> quads_between(const FillScratch& scratch,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <utility>
@@ -117,16 +118,28 @@ struct FillScratch {  // per-thread work memory of the enumerations
   std::vector<std::uint64_t> mark;
   std::uint64_t epoch = 0;
   std::vector<CornerQuad> quads;
-  std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
-  std::vector<std::uint32_t> near;  // epoch-stamped vertex marks of the hex enumeration
+  std::vector<std::uint32_t> pairs;
+  std::vector<std::uint64_t> keys;  // quads_at's packed quads (local a, local b, x), sorted
+  // quads_at's numbering of v's neighbours above v: up[i], i < num_up; local[w] holds
+  // (local_epoch << 32) | i for the current v.
+  const std::int32_t* up = nullptr;
+  std::size_t num_up = 0;
+  std::vector<std::uint64_t> local;
+  std::uint64_t local_epoch = 0;
+  std::vector<std::uint32_t> near;  // epoch-stamped vertex marks of the enumerations
   std::uint32_t near_epoch = 0;
+  std::vector<std::array<std::uint32_t, 2>> ranges;  // the hex enumeration's quad table
+  std::vector<std::int32_t> sixth;                   // the hex enumeration's choices of p6
 };
+// A fresh epoch for scratch.near (sized by the caller): marks of older epochs read as unmarked.
+std::uint32_t next_near_epoch(FillScratch& scratch);
 
 // Every potential quad face at v whose three other corners are above v (the enumerations find
 // each element from its lowest vertex) and whose corner at v has |sin| >= min_sin: sorted,
 // unique, in scratch.quads. Every face of a hex or prism made of tets is one (its two triangles
 // are tet faces), so enumerating from these misses nothing. With `used`: only quads whose two
-// triangles are faces of free tets.
+// triangles are faces of free tets. scratch.keys[i] holds quad i packed as (number of a among
+// v's neighbours above v, scratch.up) << 48 | (number of b) << 32 | x.
 void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScratch& scratch,
               const std::vector<char>* used = nullptr);
 // The opposite corners x of the quads (v, a, x, b) in scratch.quads (a < b).
@@ -162,8 +175,34 @@ class ConformityIndex {
   OpenHashSet<std::uint64_t, U64Hash> edges_, diagonals_;
 };
 
+// The determinant of the edges from corner o to a, b, c and the product of their squared lengths.
+struct CornerDet {
+  double det, len2;
+};
+inline CornerDet corner_det(const Vec3& o, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double e1[3] = {a[0] - o[0], a[1] - o[1], a[2] - o[2]};
+  const double e2[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
+  const double e3[3] = {c[0] - o[0], c[1] - o[1], c[2] - o[2]};
+  return {e1[0] * (e2[1] * e3[2] - e2[2] * e3[1]) - e1[1] * (e2[0] * e3[2] - e2[2] * e3[0]) +
+              e1[2] * (e2[0] * e3[1] - e2[1] * e3[0]),
+          (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]) *
+              (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]) *
+              (e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2])};
+}
 // Min scaled Jacobian of corner o with edges to a, b, c (no kind scaling).
-double corner_jacobian(const Vec3& o, const Vec3& a, const Vec3& b, const Vec3& c);
+inline double corner_jacobian(const Vec3& o, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const CornerDet d = corner_det(o, a, b, c);
+  const double len = std::sqrt(d.len2);
+  return len > 0 ? d.det / len : 0.0;
+}
+// corner_jacobian(o, a, b, c) >= q, for q >= 0; an inverted corner (det < 0: the common case
+// when the enumerations try both orientations) fails before the square root.
+inline bool corner_at_least(const Vec3& o, const Vec3& a, const Vec3& b, const Vec3& c, double q) {
+  const CornerDet d = corner_det(o, a, b, c);
+  if (d.det < 0) return false;
+  const double len = std::sqrt(d.len2);
+  return (len > 0 ? d.det / len : 0.0) >= q;
+}
 
 // Free tets whose four vertices are the corners of a quad face of one of `elements`: slivers
 // between the face's two diagonals, which fills_element leaves out. Such a sliver belongs to the

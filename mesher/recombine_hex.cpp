@@ -17,60 +17,87 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
                 std::vector<Candidate>& out) {
   const auto& X = topo.mesh().nodes;
   auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
-    return corner_jacobian(X[o], X[a], X[b], X[c]) >= qmin;
+    return corner_at_least(X[o], X[a], X[b], X[c], qmin);
   };
   // The corner at v is three quad faces (v p1 p2 p3), (v p1 p5 p4), (v p3 p7 p4) pairwise
   // sharing an edge at v: triangles in the graph of v's edges linked by potential quads.
   quads_at(topo, v, qmin, scratch);
-  if (scratch.near.size() != X.size()) scratch.near.assign(X.size(), 0);
   const auto& Q = scratch.quads;
+  const auto& K = scratch.keys;
+  if (Q.empty()) return;
+  if (scratch.near.size() != X.size()) scratch.near.assign(X.size(), 0);
+  // The quads (v, a, x, b) of each pair a < b: a range of Q, in a table by the numbers of a and
+  // b among v's neighbours above v.
+  const std::size_t n = scratch.num_up;
+  auto& range = scratch.ranges;
+  range.assign(n * n, {0, 0});
+  for (std::size_t i = 0; i < K.size();) {
+    std::size_t e = i + 1;
+    while (e < K.size() && K[e] >> 32 == K[i] >> 32) ++e;
+    range[(K[i] >> 48) * n + (K[i] >> 32 & 0xffff)] = {static_cast<std::uint32_t>(i),
+                                                       static_cast<std::uint32_t>(e)};
+    i = e;
+  }
+  auto between = [&](std::size_t la, std::size_t lb) {  // la < lb
+    const auto r = range[la * n + lb];
+    return std::pair<const CornerQuad*, const CornerQuad*>{Q.data() + r[0], Q.data() + r[1]};
+  };
+  auto& sixth = scratch.sixth;
   for (std::size_t i = 0; i < Q.size();) {
     // Block of quads with a = p1; within it, pairs of distinct partners q < r.
     const std::int32_t p1 = Q[i].a;
+    const std::size_t l1 = K[i] >> 48;
     std::size_t end = i;
     while (end < Q.size() && Q[end].a == p1) ++end;
     for (std::size_t j = i; j < end; ++j) {
       if (j > i && Q[j - 1].b == Q[j].b) continue;
       const std::int32_t q = Q[j].b;
+      const std::size_t lq = K[j] >> 32 & 0xffff;
       for (std::size_t k = j + 1; k < end; ++k) {
         if (Q[k - 1].b == Q[k].b || Q[k].b == q) continue;
         const std::int32_t r = Q[k].b;
-        const auto qr = quads_between(scratch, q, r);
+        const std::size_t lr = K[k] >> 32 & 0xffff;
+        const auto qr = between(lq, lr);
         if (qr.first == qr.second) continue;
         // Orientation: (p1, p3, p4) right-handed at v.
         std::int32_t p3 = q, p4 = r;
+        std::size_t l3 = lq, l4 = lr;
         if (!ok(v, p1, p3, p4)) {
           std::swap(p3, p4);
+          std::swap(l3, l4);
           if (!ok(v, p1, p3, p4)) continue;
         }
-        const auto c2 = quads_between(scratch, p1, p3);
-        const auto c5 = quads_between(scratch, p1, p4);
+        const auto c2 = between(l1, l3);
+        const auto c5 = between(l1, l4);
         for (const CornerQuad* q2 = c2.first; q2 != c2.second; ++q2) {
           const std::int32_t p2 = q2->x;
           if (p2 == p4) continue;
           // p2's neighbours, marked for the p6 search below.
-          if (++scratch.near_epoch == 0) {  // wrapped: forget every old mark
-            std::fill(scratch.near.begin(), scratch.near.end(), 0);
-            scratch.near_epoch = 1;
-          }
-          const std::uint32_t epoch = scratch.near_epoch;
+          const std::uint32_t epoch = next_near_epoch(scratch);
           for (auto it = topo.neighbours_begin(p2); it != topo.neighbours_end(p2); ++it)
             scratch.near[*it] = epoch;
           for (const CornerQuad* q5 = c5.first; q5 != c5.second; ++q5) {
             const std::int32_t p5 = q5->x;
             if (p5 == p2 || p5 == p3 || !ok(p1, p2, v, p5)) continue;
+            bool sixth_known = false;  // p6 choices: adjacent to p2 and p5, found once per pair
             for (const CornerQuad* q7 = qr.first; q7 != qr.second; ++q7) {
               const std::int32_t p7 = q7->x;
               if (p7 == p1 || p7 == p2 || p7 == p5) continue;
               if (!ok(p3, v, p2, p7) || !ok(p4, p7, p5, v)) continue;
+              if (!sixth_known) {
+                sixth.clear();
+                for (auto it =
+                         std::upper_bound(topo.neighbours_begin(p5), topo.neighbours_end(p5), v);
+                     it != topo.neighbours_end(p5); ++it) {
+                  const std::int32_t p6 = *it;
+                  if (scratch.near[p6] == epoch && p6 != p1 && p6 != p3 && p6 != p4 && p6 != p2)
+                    sixth.push_back(p6);
+                }
+                sixth_known = true;
+              }
               // p6: adjacent to p2, p5 and p7.
-              for (auto it =
-                       std::upper_bound(topo.neighbours_begin(p5), topo.neighbours_end(p5), v);
-                   it != topo.neighbours_end(p5); ++it) {
-                const std::int32_t p6 = *it;
-                if (scratch.near[p6] != epoch) continue;
-                if (p6 == p1 || p6 == p3 || p6 == p4 || p6 == p2 || p6 == p7) continue;
-                if (!topo.adjacent(p7, p6)) continue;
+              for (const std::int32_t p6 : sixth) {
+                if (p6 == p7 || !topo.adjacent(p7, p6)) continue;
                 if (!ok(p2, p3, p1, p6) || !ok(p5, p4, p6, p1) || !ok(p6, p5, p7, p2) ||
                     !ok(p7, p6, p4, p3))
                   continue;
@@ -83,7 +110,7 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
                 c.nodes = {v, p1, p2, p3, p4, p5, p6, p7};
                 c.tets.fill(-1);  // found by fills_element when the greedy pass reaches it
                 Vec3 x[8];
-                for (int n = 0; n < 8; ++n) x[n] = X[c.nodes[n]];
+                for (int i8 = 0; i8 < 8; ++i8) x[i8] = X[c.nodes[i8]];
                 c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Hex8, x));
                 out.push_back(c);
               }
