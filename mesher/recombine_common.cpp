@@ -118,17 +118,16 @@ bool is_face_sliver(CellKind kind, const std::int32_t* nodes,
 }
 
 bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char>* used,
-                   const FillRules& rules, FillScratch& scratch) {
+                   const FillRules& rules) {
   const TetMesh& m = topo.mesh();
   const int nn = num_nodes(c.kind);
   const std::int32_t* nodes = c.nodes.data();
-  // Local index of each node, valid for this call only (epoch-stamped).
-  if (scratch.mark.size() != m.nodes.size()) scratch.mark.assign(m.nodes.size(), 0);
-  const std::uint64_t epoch = ++scratch.epoch;
-  for (int i = 0; i < nn; ++i) scratch.mark[nodes[i]] = (epoch << 4) | static_cast<unsigned>(i);
+  // Local index of a node, or -1: compared with all eight slots at once (unused slots are -1),
+  // no memory lookup.
   auto local = [&](std::int32_t v) -> int {
-    const std::uint64_t mk = scratch.mark[v];
-    return (mk >> 4) == epoch ? static_cast<int>(mk & 15) : -1;
+    unsigned hit = 0;
+    for (int i = 0; i < 8; ++i) hit |= static_cast<unsigned>(nodes[i] == v) << i;
+    return hit ? std::countr_zero(hit) : -1;
   };
   // Quad faces as masks of local corners.
   const CellFaces cf = faces_of(c.kind);
@@ -690,15 +689,10 @@ std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candi
   for (std::size_t start = 0; start < cands.size(); start += kChunk) {
     const std::size_t end = std::min(cands.size(), start + kChunk);
     const auto count = static_cast<std::ptrdiff_t>(end - start);
-#pragma omp parallel
-    {
-      FillScratch scratch;
-#pragma omp for schedule(dynamic, 256)
-      for (std::ptrdiff_t k = 0; k < count; ++k) {
-        Candidate& c = cands[start + k];
-        fillable[k] =
-            possible(c) && (c.tets[0] >= 0 || fills_element(topo, c, &used, rules, scratch));
-      }
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t k = 0; k < count; ++k) {
+      Candidate& c = cands[start + k];
+      fillable[k] = possible(c) && (c.tets[0] >= 0 || fills_element(topo, c, &used, rules));
     }
     for (std::size_t i = start; i < end; ++i) {
       const Candidate& c = cands[i];

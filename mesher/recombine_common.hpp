@@ -115,8 +115,6 @@ struct CornerQuad {
 };
 
 struct FillScratch {  // per-thread work memory of the enumerations
-  std::vector<std::uint64_t> mark;
-  std::uint64_t epoch = 0;
   std::vector<CornerQuad> quads;
   std::vector<std::uint32_t> pairs;
   std::vector<std::uint64_t> keys;  // quads_at's packed quads (local a, local b, x), sorted
@@ -146,7 +144,7 @@ void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScrat
 std::pair<const CornerQuad*, const CornerQuad*> quads_between(const FillScratch& scratch,
                                                               std::int32_t a, std::int32_t b);
 bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char>* used,
-                   const FillRules& rules, FillScratch& scratch);
+                   const FillRules& rules);
 
 // The quad face of an element (kind, nodes) whose four corners are the vertices of tet T (a
 // flat "sliver" lying on that face), or -1.
