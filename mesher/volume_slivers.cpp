@@ -1,8 +1,10 @@
 #include "mesher/volume_slivers.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "mesher/mesh/quality.hpp"
 #include "mesher/vec3.hpp"
@@ -232,6 +234,17 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
   for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
     tri.emplace(tri_key(sm.bface(f)[0], sm.bface(f)[1], sm.bface(f)[2]),
                 static_cast<std::int32_t>(f));
+  // Surface edges: the diagonal a dropped tet gives the surface must not be one already (where
+  // a thin part's sharp edge runs along the tet, that edge would then be in four triangles and
+  // the boundary no longer a closed manifold: Propeller.rle at h = 45.29).
+  auto edge_key = [](std::int32_t a, std::int32_t b) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::min(a, b))) << 32) |
+           static_cast<std::uint32_t>(std::max(a, b));
+  };
+  std::unordered_set<std::uint64_t> edges;
+  edges.reserve(sm.num_bfaces() * 3 / 2);
+  for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
+    for (int i = 0; i < 3; ++i) edges.insert(edge_key(sm.bface(f)[i], sm.bface(f)[(i + 1) % 3]));
   const auto& X = tets.nodes;
   auto normal = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
     const Vec3 u{X[b][0] - X[a][0], X[b][1] - X[a][1], X[b][2] - X[a][2]};
@@ -266,6 +279,13 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
     const std::int32_t* B = sm.bface(s2);
     const Vec3 n1 = normal(A[0], A[1], A[2]), n2 = normal(B[0], B[1], B[2]);
     if (!(dot(n1, n2) > 0)) continue;  // a fold, not the two halves of one flat quad
+    // The old diagonal joins the corners both surface faces hold, the new one the other two.
+    const std::int32_t na = T[on[0]], nb = T[on[1]];
+    const std::uint64_t new_diag = edge_key(na, nb);
+    if (edges.count(new_diag)) continue;
+    std::int32_t old_diag[2], k_old = 0;
+    for (int i = 0; i < 4; ++i)
+      if (i != on[0] && i != on[1]) old_diag[k_old++] = T[i];
     // The two other faces, oriented like the surface (outward).
     std::array<std::int32_t, 3> nf[2];
     for (int k = 0; k < 2; ++k) {
@@ -283,6 +303,8 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
       f[2] = nf[k][2];
       tri.emplace(tri_key(f[0], f[1], f[2]), slot[k]);
     }
+    edges.erase(edge_key(old_diag[0], old_diag[1]));
+    edges.insert(new_diag);
     drop[t] = 1;
     ++dropped;
   }

@@ -30,7 +30,8 @@ struct SliverFlips {
 // faces (the same plane, the other diagonal, same CAD face and orientation). Done right after
 // TetGen, so the recombination never sees it. Tets with min scaled Jacobian below flat_sj
 // whose two surface faces meet on the diagonal (outward normals alike) and whose two other
-// faces are inside qualify. Returns how many were dropped; `tets` and `surface` are updated.
+// faces are inside qualify, unless the other diagonal is already a surface edge. Returns how many
+// were dropped; `tets` and `surface` are updated.
 std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj);
 
 // Flips away every free tet with min scaled Jacobian below flat_sj whose edge shells are free

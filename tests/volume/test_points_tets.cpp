@@ -107,6 +107,38 @@ TEST(FrameField3D, SizeGrowsAwayFromASmallVertexUpToTheLargestSize) {
   EXPECT_DOUBLE_EQ(f.size_at(far, v), 0.25);
 }
 
+// One surface vertex made 10x finer (as at a tiny CAD feature): the fine points it grows stay near
+// it, graded back to h, instead of filling the whole region of the volume nearest to it at its
+// size (MVE at h = 9.55 had 1.77M interior points that way, 90 % at one vertex's size).
+TEST(VolumePoints, ATinySurfaceSizeStaysLocal) {
+  SurfaceMesh s = synthetic::box_surface({2.5, 2.5, 2.5}, {10, 10, 10});
+  const FrameField3D uniform_field(s);
+  const SolidLocator loc(s);
+  const std::size_t uniform = insert_volume_points(s, uniform_field, loc).points.size();
+  ASSERT_EQ(uniform, 9u * 9u * 9u);
+  // The surface vertex at the centre of the face x = 0.
+  std::int32_t v = uniform_field.nearest_vertex({0, 1.25, 1.25});
+  ASSERT_NEAR(s.mesh.nodes[v][1], 1.25, 1e-12);
+  s.size[v] = 0.025;
+  const FrameField3D field(s);
+  const VolumePoints vp = insert_volume_points(s, field, loc);
+  // Points off the lattice of step 0.25 come from the fine vertex: they lie within the grading
+  // distance (0.25 - 0.025) / 0.3 = 0.75 of it, plus a step. Its nearest region (a column 0.25
+  // wide to the middle of the box) filled at 0.025 would hold ~4,000 more points.
+  std::size_t off_lattice = 0;
+  for (const Vec3& p : vp.points) {
+    bool on = true;
+    for (int a = 0; a < 3; ++a) on = on && std::abs(p[a] / 0.25 - std::round(p[a] / 0.25)) < 1e-6;
+    if (on) continue;
+    ++off_lattice;
+    EXPECT_LT(std::hypot(p[0], p[1] - 1.25, p[2] - 1.25), 1.0);
+  }
+  EXPECT_GT(off_lattice, 0u);
+  std::printf("uniform %zu, with the fine vertex %zu (%zu off the lattice)\n", uniform,
+              vp.points.size(), off_lattice);
+  EXPECT_LT(vp.points.size(), uniform + 300);
+}
+
 // On a box whose surface nodes are a lattice of step h with frames = axes, the frontal insertion
 // must fill exactly the interior lattice points.
 TEST(VolumePoints, FrontalFillsTheBoxLattice) {
