@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "mesher/mesh/error.hpp"
@@ -51,6 +52,17 @@ struct TetgenResult {
   std::string error;  // empty on success
   std::vector<double> points;
   std::vector<int> tets, neighbors, trifaces;
+  pid_t child = -1;  // on success: the child, still to be reaped (ChildReaper)
+};
+
+// Waits for a finished child (it may still be releasing its memory) when it goes out of scope.
+struct ChildReaper {
+  pid_t pid = -1;
+  ~ChildReaper() {
+    int status = 0;
+    while (pid > 0 && ::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+  }
 };
 
 // Writes all of `n` bytes (the pipe may take them in pieces).
@@ -66,32 +78,34 @@ bool write_all(int fd, const void* data, std::size_t n) {
   return true;
 }
 
-template <class T>
-bool write_array(int fd, const T* data, std::uint64_t count) {
-  return write_all(fd, &count, sizeof count) &&
-         (count == 0 || write_all(fd, data, count * sizeof(T)));
-}
-
-template <class T>
-bool read_array(const std::vector<char>& buf, std::size_t& at, std::vector<T>& v) {
-  std::uint64_t count = 0;
-  if (at + sizeof count > buf.size()) return false;
-  std::memcpy(&count, buf.data() + at, sizeof count);
-  at += sizeof count;
-  if (count > (buf.size() - at) / sizeof(T)) return false;
-  v.resize(count);
-  if (count) std::memcpy(v.data(), buf.data() + at, count * sizeof(T));
-  at += count * sizeof(T);
+// Reads exactly `n` bytes; false at an early end of file or on an error.
+bool read_all(int fd, void* data, std::size_t n) {
+  char* p = static_cast<char*>(data);
+  while (n > 0) {
+    const ssize_t r = ::read(fd, p, n);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) return false;
+    p += r;
+    n -= static_cast<std::size_t>(r);
+  }
   return true;
 }
+
+// The child's message: the four array sizes, the arrays, then this mark (a child that died
+// while writing leaves it out).
+constexpr std::uint64_t kEndMark = 0x74657467656e4f4bull;
+static_assert(std::is_same_v<REAL, double>, "TetGen built with REAL = double");
 
 // Runs TetGen in a forked child. Debian's libtet 1.5.0 frees its memory twice when it reports an
 // error (terminatetetgen() frees, then the unwinding destructor frees again) and segfaults, so
 // an error inside TetGen cannot be caught in-process; the child's crash becomes an Error here.
+// The output comes back through a pipe straight into the result's arrays; after a complete
+// message the child is reaped later (its exit, releasing TetGen's memory, overlaps our work).
 TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches) {
   TetgenResult r;
   int fd[2];
   if (::pipe(fd) != 0) throw Error("TetGen: cannot create a pipe");
+  ::fcntl(fd[1], F_SETPIPE_SZ, 1 << 20);  // fewer round trips; the default size works too
   std::fflush(stdout);
   const pid_t pid = ::fork();
   if (pid < 0) throw Error("TetGen: cannot fork");
@@ -110,23 +124,38 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches) {
       code = c;
     }
     if (code != 0) ::_exit(100 + code);
-    const bool ok = write_array(fd[1], out.pointlist, 3ull * out.numberofpoints) &&
-                    write_array(fd[1], out.tetrahedronlist, 4ull * out.numberoftetrahedra) &&
-                    write_array(fd[1], out.neighborlist, 4ull * out.numberoftetrahedra) &&
-                    write_array(fd[1], out.trifacelist, 3ull * out.numberoftrifaces);
+    const std::uint64_t sizes[4] = {3ull * out.numberofpoints, 4ull * out.numberoftetrahedra,
+                                    4ull * out.numberoftetrahedra, 3ull * out.numberoftrifaces};
+    const bool ok = write_all(fd[1], sizes, sizeof sizes) &&
+                    write_all(fd[1], out.pointlist, sizes[0] * sizeof(REAL)) &&
+                    write_all(fd[1], out.tetrahedronlist, sizes[1] * sizeof(int)) &&
+                    write_all(fd[1], out.neighborlist, sizes[2] * sizeof(int)) &&
+                    write_all(fd[1], out.trifacelist, sizes[3] * sizeof(int)) &&
+                    write_all(fd[1], &kEndMark, sizeof kEndMark);
     ::close(fd[1]);
     ::_exit(ok ? 0 : 91);
   }
   ::close(fd[1]);
-  std::vector<char> buf;
-  char chunk[1 << 16];
-  for (;;) {
-    const ssize_t n = ::read(fd[0], chunk, sizeof chunk);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    buf.insert(buf.end(), chunk, chunk + n);
+  std::uint64_t sizes[4] = {0, 0, 0, 0}, mark = 0;
+  bool complete = read_all(fd[0], sizes, sizeof sizes);
+  // Sizes from a healthy child fit in memory; anything else is a broken message.
+  for (const std::uint64_t n : sizes) complete = complete && n < (std::uint64_t{1} << 40);
+  if (complete) {
+    r.points.resize(sizes[0]);
+    r.tets.resize(sizes[1]);
+    r.neighbors.resize(sizes[2]);
+    r.trifaces.resize(sizes[3]);
+    complete = read_all(fd[0], r.points.data(), sizes[0] * sizeof(double)) &&
+               read_all(fd[0], r.tets.data(), sizes[1] * sizeof(int)) &&
+               read_all(fd[0], r.neighbors.data(), sizes[2] * sizeof(int)) &&
+               read_all(fd[0], r.trifaces.data(), sizes[3] * sizeof(int)) &&
+               read_all(fd[0], &mark, sizeof mark) && mark == kEndMark;
   }
   ::close(fd[0]);
+  if (complete) {
+    r.child = pid;
+    return r;
+  }
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
@@ -139,10 +168,7 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches) {
               : code > 100  ? "error code " + std::to_string(code - 100)
                             : "exit status " + std::to_string(code);
   } else {
-    std::size_t at = 0;
-    if (!read_array(buf, at, r.points) || !read_array(buf, at, r.tets) ||
-        !read_array(buf, at, r.neighbors) || !read_array(buf, at, r.trifaces))
-      r.error = "its output was truncated";
+    r.error = "its output was truncated";
   }
   return r;
 }
@@ -179,6 +205,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
   // p: PLC; Y: keep the boundary mesh; n: neighbours; z: 0-based; Q: quiet; O0: no flips or
   // smoothing after the Delaunay construction (they would break the lattice's cubes).
   const TetgenResult out = run_tetgen_isolated(in, "pYnzQO0");
+  const ChildReaper reaper{out.child};
   if (!out.error.empty()) {
     const std::string why = intersection_message(surface, locator);
     throw Error("TetGen failed (" + out.error + ")" +
@@ -255,8 +282,11 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
           for (int c = 0; c < 4; ++c)
             if (tets[t][a] == tets[nb][c]) fv[n++] = tets[t][a];
         if (n != 3) continue;
-        const Tri face = sorted_tri(fv[0], fv[1], fv[2]);
-        if (std::binary_search(output.begin(), output.end(), face)) continue;
+        // Surface triangles (the output's boundary, equal to the input's) join surface nodes only.
+        const auto s_nodes = static_cast<std::int32_t>(ns);
+        if (fv[0] < s_nodes && fv[1] < s_nodes && fv[2] < s_nodes &&
+            std::binary_search(output.begin(), output.end(), sorted_tri(fv[0], fv[1], fv[2])))
+          continue;
         region[nb] = r;
         stack.push_back(static_cast<std::size_t>(nb));
       }
