@@ -75,8 +75,8 @@ class StageTimer {
   double cpu_start_, cpu_last_;
 };
 
-// Cells, boundary faces (two surface triangles under a hex/prism quad become that quad, with the
-// CAD face they share) and NC flags.
+// Cells and boundary faces (two surface triangles under a hex/prism quad become that quad, with
+// the CAD face they share).
 MixedMesh assemble(const SurfaceMesh& surface, const TetTopology& topo,
                    const std::vector<Candidate>& elements, const std::vector<char>& used,
                    const SliverFlips& flips) {
@@ -131,7 +131,6 @@ MixedMesh assemble(const SurfaceMesh& surface, const TetTopology& topo,
     mesh.add_bface(n[lf.v[0]], n[lf.v[1]], n[lf.v[2]], n[lf.v[3]], sm.bface_cad_face[t],
                    sm.bface_physical.empty() ? 0 : sm.bface_physical[t]);
   }
-  flag_nonconformal_quads(mesh);
   return mesh;
 }
 
@@ -293,6 +292,10 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
     check_each_tet_used_once(tets.tets.size(), elements, gone, used);
   }
   MixedMesh mesh = assemble(surface, topo, elements, used, flips);
+  // The cell faces, sorted once for the NC flags and the statistics (moving vertices below keeps
+  // them).
+  const std::vector<CellFaceRef> faces = sorted_cell_faces(mesh);
+  flag_nonconformal_quads(mesh, faces);
   r.lifted_cells = lift_slivers(mesh, topo.num_surface_nodes(), options.flat_tet_quality);
   timer.stage("assembly + NC");
 
@@ -300,7 +303,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   // Where the gap comes from: each element against its own tets, and the absorbed slivers.
   for (const Candidate& e : elements) r.volume_elements_gap += element_gap(topo, e);
   for (std::int32_t t : absorbed) r.volume_absorbed += topo.tet_volume(t);
-  r.stats = compute_stats(mesh);
+  r.stats = compute_stats(mesh, faces);
   const MeshStats& st = r.stats;
   r.vertices = st.num_nodes;
   r.cells = st.cells_per_kind;

@@ -42,8 +42,7 @@ bool quad_touches_triangles(const std::vector<CellFaceRef>& faces, const FaceKey
 }
 
 template <class Visit>
-void for_each_interior_quad(const MixedMesh& mesh, Visit visit) {
-  const std::vector<CellFaceRef> faces = sorted_cell_faces(mesh);
+void for_each_interior_quad(const std::vector<CellFaceRef>& faces, Visit visit) {
   for (std::size_t i = 0; i < faces.size();) {
     std::size_t j = i;
     while (j < faces.size() && faces[j].key == faces[i].key) ++j;
@@ -60,23 +59,31 @@ void for_each_interior_quad(const MixedMesh& mesh, Visit visit) {
 
 }  // namespace
 
-void flag_nonconformal_quads(MixedMesh& mesh) {
+void flag_nonconformal_quads(MixedMesh& mesh, const std::vector<CellFaceRef>& faces) {
   mesh.nc_cell.clear();
   mesh.nc_local_face.clear();
-  for_each_interior_quad(mesh, [&](const CellFaceRef& f, bool matched) {
+  for_each_interior_quad(faces, [&](const CellFaceRef& f, bool matched) {
     if (matched) return;
     mesh.nc_cell.push_back(f.cell);
     mesh.nc_local_face.push_back(f.local);
   });
 }
 
-QuadFaceCounts count_quad_faces(const MixedMesh& mesh) {
+void flag_nonconformal_quads(MixedMesh& mesh) {
+  flag_nonconformal_quads(mesh, sorted_cell_faces(mesh));
+}
+
+QuadFaceCounts count_quad_faces(const std::vector<CellFaceRef>& faces) {
   QuadFaceCounts counts;
-  for_each_interior_quad(mesh, [&](const CellFaceRef&, bool matched) {
+  for_each_interior_quad(faces, [&](const CellFaceRef&, bool matched) {
     ++counts.interior;
     if (!matched) ++counts.nonconformal;
   });
   return counts;
+}
+
+QuadFaceCounts count_quad_faces(const MixedMesh& mesh) {
+  return count_quad_faces(sorted_cell_faces(mesh));
 }
 
 }  // namespace hexfem

@@ -59,9 +59,13 @@ std::vector<FaceKey> derived_boundary_faces(const MixedMesh& mesh,
 }  // namespace
 
 MeshStats compute_stats(const MixedMesh& mesh) {
-  // The quad-face counts (a sort of every cell face) do not depend on the rest: a second thread.
+  return compute_stats(mesh, sorted_cell_faces(mesh));
+}
+
+MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& faces) {
+  // The quad-face counts do not depend on the rest: a second thread.
   std::future<QuadFaceCounts> counts =
-      std::async(std::launch::async, [&mesh] { return count_quad_faces(mesh); });
+      std::async(std::launch::async, [&faces] { return count_quad_faces(faces); });
   MeshStats s;
   s.num_nodes = mesh.nodes.size();
   s.num_cells = mesh.num_cells();
@@ -105,7 +109,7 @@ MeshStats compute_stats(const MixedMesh& mesh) {
     flag_nonconformal_quads(flagged);
     m = &flagged;
   }
-  const std::vector<CellFaceRef> faces = sorted_cell_faces(*m);
+  // The flagged copy has the same cells, hence the same faces.
   std::vector<const CellFaceRef*> refs;
   const std::vector<FaceKey> boundary = derived_boundary_faces(*m, faces, refs);
   s.boundary_faces_derived = boundary.size();

@@ -4,7 +4,9 @@
 #include <array>
 #include <cstddef>
 #include <nlohmann/json_fwd.hpp>
+#include <vector>
 
+#include "mesher/mesh/face_keys.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
 
 namespace hexfem {
@@ -31,6 +33,8 @@ struct MeshStats {
 };
 
 MeshStats compute_stats(const MixedMesh& mesh);
+// The same from sorted_cell_faces(mesh) (face_keys.hpp), for a caller that has them already.
+MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& faces);
 
 // The same, as JSON (keys as the field names, per-kind maps keyed by kind_name()).
 nlohmann::json stats_to_json(const MeshStats& s);
