@@ -128,6 +128,7 @@ struct FillScratch {  // per-thread work memory of the enumerations
   std::uint32_t near_epoch = 0;
   std::vector<std::array<std::uint32_t, 2>> ranges;  // the hex enumeration's quad table
   std::vector<std::int32_t> sixth;                   // the hex enumeration's choices of p6
+  std::vector<std::pair<std::int32_t, std::int32_t>> prism_partners, prism_bottoms;
 };
 // A fresh epoch for scratch.near (sized by the caller): marks of older epochs read as unmarked.
 std::uint32_t next_near_epoch(FillScratch& scratch);

@@ -23,12 +23,13 @@ void prisms_from(const TetTopology& topo, const std::vector<char>& used, std::in
   // The wedge's ideal corner (60 degrees) has raw value sqrt(3)/2; quality.hpp scales it to 1.
   const double raw_min = qmin * std::sqrt(3.0) / 2.0;
   auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
-    return corner_jacobian(X[o], X[a], X[b], X[c]) >= raw_min;
+    return corner_at_least(X[o], X[a], X[b], X[c], raw_min);
   };
   // A prism's quad faces are faces of its tets, which must be free: quads of free tets only.
   quads_at(topo, v, raw_min, scratch, &used);
   // Partners of each vertex through a quad at v (both directions), sorted.
-  std::vector<std::pair<std::int32_t, std::int32_t>> partner;
+  auto& partner = scratch.prism_partners;
+  partner.clear();
   for (const CornerQuad& q : scratch.quads) {
     partner.emplace_back(q.a, q.b);
     partner.emplace_back(q.b, q.a);
@@ -41,7 +42,8 @@ void prisms_from(const TetTopology& topo, const std::vector<char>& used, std::in
                             [](const auto& x, const auto& y) { return x.first < y.first; });
   };
   // Bottom triangles (v, p1, p2): faces of free tets around v.
-  std::vector<std::pair<std::int32_t, std::int32_t>> tris;
+  auto& tris = scratch.prism_bottoms;
+  tris.clear();
   for (auto it = topo.star_begin(v); it != topo.star_end(v); ++it) {
     if (used[*it]) continue;
     std::int32_t o[3], n = 0;
