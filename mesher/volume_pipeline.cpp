@@ -257,12 +257,18 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   timer.stage("pyramids");
 
   if (options.nc_repair) {
+    PrismOptions pr;  // the prism stage's rules, for prisms in gaps
+    pr.min_quality = options.min_quality;
+    pr.fill.max_volume_gap = options.max_volume_gap;
+    pr.fill.max_face_twist = options.max_face_twist;
     const NcRepair nr = undo_nonconformal_elements(
         topo, elements, absorbed, used, options.flat_tet_quality, kFlatTetQuality,
-        options.min_pyramid_quality, options.nc_hex_gain, !options.no_pyramids);
+        options.min_pyramid_quality, options.nc_hex_gain, !options.no_pyramids,
+        options.no_prisms ? nullptr : &pr);
     r.nc_faces_before_repair = nr.nc_before;
     r.nc_faces_after_repair = nr.nc_after;
     r.nc_repair_pyramids = nr.pyramids_added;
+    r.nc_repair_prisms = nr.prisms_added;
     for (int k = 0; k < kNumCellKinds; ++k) r.nc_undone[k] = nr.undone[k];
     r.absorbed_slivers = absorbed.size();
   }
@@ -376,7 +382,8 @@ nlohmann::json volume_report_json(const VolumeReport& r) {
   j["nc_repair"] = {{"nc_faces_before", r.nc_faces_before_repair},
                     {"nc_faces_after", r.nc_faces_after_repair},
                     {"undone", nc_undone.is_null() ? nlohmann::json::object() : nc_undone},
-                    {"pyramids_added", r.nc_repair_pyramids}};
+                    {"pyramids_added", r.nc_repair_pyramids},
+                    {"prisms_added", r.nc_repair_prisms}};
   nlohmann::json stages = nlohmann::json::array();
   for (const auto& s : r.stages)
     stages.push_back({{"stage", s.name}, {"seconds", s.seconds}, {"cpu_seconds", s.cpu_seconds}});
@@ -423,12 +430,13 @@ std::string volume_report_text(const VolumeReport& r) {
        r.gap_undone[static_cast<int>(CellKind::Pyramid5)]);
   if (r.nc_faces_before_repair > 0)  // not with --no-nc-repair
     line(
-        "nc repair       %zu -> %zu NC faces: undid %zu hex, %zu prism, %zu pyramid; %zu pyramids "
-        "made",
+        "nc repair       %zu -> %zu NC faces: undid %zu hex, %zu prism, %zu pyramid; made %zu "
+        "pyramids, %zu prisms",
         r.nc_faces_before_repair, r.nc_faces_after_repair,
         r.nc_undone[static_cast<int>(CellKind::Hex8)],
         r.nc_undone[static_cast<int>(CellKind::Wedge6)],
-        r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids);
+        r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids,
+        r.nc_repair_prisms);
   for (const auto& st : r.stages)
     line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);
   line("time total                 %8.3f s wall %8.3f s cpu (%d threads)", r.total_seconds,

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "mesher/mesh/conformity.hpp"
+#include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/quality.hpp"
 #include "mesher/mesh/structured_box.hpp"
@@ -135,8 +136,8 @@ struct Recombined {
   std::vector<char> used;
 };
 template <class Keep>
-Recombined lattice_with_hexes(Keep keep) {
-  Recombined R{lattice_of_tets(3, 3, 3, CellKind::Tet4), {}, {}};
+Recombined lattice_with_hexes(Keep keep, int nz = 3) {
+  Recombined R{lattice_of_tets(3, 3, nz, CellKind::Tet4), {}, {}};
   const TetTopology topo(R.lattice.tets, R.lattice.surface);
   std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
   std::vector<char> used(R.lattice.tets.tets.size(), 0);
@@ -201,6 +202,124 @@ TEST(NcRepair, HexStickingOutOfALayerGoesBack) {
   EXPECT_EQ(nr.nc_after, 9u);
   EXPECT_EQ(count_nc_faces(topo, R.hexes), nr.nc_after);
   EXPECT_EQ(R.hexes.size(), 9u);
+}
+
+// A row of three cubes across a one-cube-thick slab (their z faces on the surface), the other
+// cubes tets: each cube has two NC faces (y = 1 and y = 2), the middle one two matched faces.
+// In a Kuhn cube the two tets on each face share the far end of the main diagonal, and the
+// tets on the middle cube's x = 1 and x = 2 faces are four distinct tets: undone, the middle
+// cube leaves pyramids (min scaled Jacobian sqrt(2/3) = 0.816) on both neighbours' faces.
+Recombined slab_row() {
+  return lattice_with_hexes([](int, int j, int) { return j == 1; }, 1);
+}
+
+TEST(NcRepair, HexWhosePartnersGetPyramidsGoesBack) {
+  // Counting only NC faces, the middle cube gains 2 - 2 = 0 and the end ones 2 - 1 = 1 (below
+  // the hex gain 2): nothing would go. Counting the pyramids its own tets make on the two
+  // partner faces, undoing the middle gains 2; then each end cube has two NC faces and a pyramid
+  // (which goes with it) and gains 2. Every NC face goes: 6 -> 0.
+  Recombined R = slab_row();
+  ASSERT_EQ(R.hexes.size(), 3u);
+  const TetTopology topo(R.lattice.tets, R.lattice.surface);
+  EXPECT_EQ(count_nc_faces(topo, R.hexes), 6u);
+  std::vector<std::int32_t> absorbed;
+  const NcRepair nr =
+      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 2);
+  EXPECT_EQ(nr.nc_before, 6u);
+  EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 3u);
+  EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Pyramid5)], 2u);  // made, then gone with the ends
+  EXPECT_EQ(nr.pyramids_added, 2u);
+  EXPECT_EQ(nr.nc_after, 0u);
+  EXPECT_TRUE(R.hexes.empty());
+  for (char u : R.used) EXPECT_FALSE(u);
+}
+
+TEST(NcRepair, HexWhosePartnersGetNoPyramidStays) {
+  // Same row, but pyramids must reach a min scaled Jacobian of 0.9 (theirs is 0.816): undoing
+  // the middle cube would turn both partner faces NC (gain 0), the end cubes gain 1 < 2.
+  Recombined R = slab_row();
+  ASSERT_EQ(R.hexes.size(), 3u);
+  const TetTopology topo(R.lattice.tets, R.lattice.surface);
+  std::vector<std::int32_t> absorbed;
+  const NcRepair nr =
+      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.9, 2);
+  EXPECT_EQ(nr.nc_before, 6u);
+  EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 0u);
+  EXPECT_EQ(nr.pyramids_added, 0u);
+  EXPECT_EQ(nr.nc_after, 6u);
+  EXPECT_EQ(count_nc_faces(topo, R.hexes), 6u);
+  EXPECT_EQ(R.hexes.size(), 3u);
+}
+
+// A one-cube-thick slab of 3x3 cubes, all hexes but the middle one (tets): its four side faces
+// are NC. Its Kuhn tets (around the diagonal from (1,1) to (2,2)) split it into two prisms
+// along the plane x = y, each matching two of the hexes' faces. The two tets on each face share
+// an apex, but the pyramids on the faces at y = 1 and x = 2 (and at y = 2 and x = 1) need a
+// common tet: pyramids alone leave two NC faces.
+Recombined slab_around_a_hole() {
+  return lattice_with_hexes([](int i, int j, int) { return !(i == 1 && j == 1); }, 1);
+}
+
+// Quad faces of `elements` that no other element's quad matches, off the box's surface: counted
+// from the vertex sets alone.
+std::size_t unmatched_interior_quads(const Lattice& L, const std::vector<Candidate>& elements) {
+  std::vector<QuadKey> keys;
+  for (const Candidate& e : elements) {
+    const CellFaces cf = faces_of(e.kind);
+    for (int f = 0; f < cf.count; ++f)
+      if (cf.face[f].n == 4) keys.push_back(quad_key(e, f));
+  }
+  std::sort(keys.begin(), keys.end());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if ((i > 0 && keys[i] == keys[i - 1]) || (i + 1 < keys.size() && keys[i] == keys[i + 1]))
+      continue;
+    bool on_surface = false;  // all four corners on one side of the 3x3x1 box
+    for (int d = 0; d < 3 && !on_surface; ++d)
+      for (double side : {0.0, d == 2 ? 1.0 : 3.0}) {
+        bool all = true;
+        for (std::int32_t v : keys[i]) all = all && L.tets.nodes[v][d] == side;
+        on_surface = on_surface || all;
+      }
+    n += !on_surface;
+  }
+  return n;
+}
+
+TEST(NcRepair, PrismsFillTheGapBetweenHexFaces) {
+  Recombined R = slab_around_a_hole();
+  ASSERT_EQ(R.hexes.size(), 8u);
+  const TetTopology topo(R.lattice.tets, R.lattice.surface);
+  std::vector<std::int32_t> absorbed;
+  const PrismOptions prisms;
+  const NcRepair nr = undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05,
+                                                 2, true, &prisms);
+  EXPECT_EQ(nr.nc_before, 4u);
+  EXPECT_EQ(nr.prisms_added, 2u);
+  EXPECT_EQ(nr.nc_after, 0u);
+  EXPECT_EQ(unmatched_interior_quads(R.lattice, R.hexes), 0u);
+  int hexes = 0, wedges = 0;
+  for (const Candidate& e : R.hexes) {
+    hexes += e.kind == CellKind::Hex8;
+    wedges += e.kind == CellKind::Wedge6;
+    EXPECT_GT(e.quality, 0.8f);  // right-angled prisms: sqrt(2)/2 * 2/sqrt(3) = 0.816
+  }
+  EXPECT_EQ(hexes, 8);
+  EXPECT_EQ(wedges, 2);
+  for (char u : R.used) EXPECT_TRUE(u);
+}
+
+TEST(NcRepair, WithoutPrismsPyramidsLeaveTwoNcFaces) {
+  Recombined R = slab_around_a_hole();
+  const TetTopology topo(R.lattice.tets, R.lattice.surface);
+  std::vector<std::int32_t> absorbed;
+  const NcRepair nr =
+      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 2, true);
+  EXPECT_EQ(nr.nc_before, 4u);
+  EXPECT_EQ(nr.prisms_added, 0u);
+  EXPECT_EQ(nr.pyramids_added, 2u);
+  EXPECT_EQ(nr.nc_after, 2u);
+  EXPECT_EQ(unmatched_interior_quads(R.lattice, R.hexes), 2u);
 }
 
 // Checks every property the pipeline promises on one mesh.
