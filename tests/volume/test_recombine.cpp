@@ -6,7 +6,6 @@
 #include <set>
 
 #include "mesher/mesh/conformity.hpp"
-#include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/quality.hpp"
 #include "mesher/mesh/structured_box.hpp"
@@ -263,13 +262,7 @@ Recombined slab_around_a_hole() {
 // Quad faces of `elements` that no other element's quad matches, off the box's surface: counted
 // from the vertex sets alone.
 std::size_t unmatched_interior_quads(const Lattice& L, const std::vector<Candidate>& elements) {
-  std::vector<QuadKey> keys;
-  for (const Candidate& e : elements) {
-    const CellFaces cf = faces_of(e.kind);
-    for (int f = 0; f < cf.count; ++f)
-      if (cf.face[f].n == 4) keys.push_back(quad_key(e, f));
-  }
-  std::sort(keys.begin(), keys.end());
+  const std::vector<QuadKey> keys = sorted_quad_keys(elements);
   std::size_t n = 0;
   for (std::size_t i = 0; i < keys.size(); ++i) {
     if ((i > 0 && keys[i] == keys[i - 1]) || (i + 1 < keys.size() && keys[i] == keys[i + 1]))
