@@ -281,7 +281,6 @@ std::size_t prisms_in_gaps(const TetTopology& topo, std::vector<Candidate>& elem
     bool operator<(const Scored& o) const { return gain != o.gain ? gain > o.gain : cand < o.cand; }
   };
   // Scores each fillable candidate against the current elements; 0 or less: not worth it.
-  FillScratch scratch;
   std::vector<std::int32_t> taken;  // pyramids the candidate takes
   auto score = [&](Candidate& c) {
     bool matches_nc = false;  // cheap test first: most candidates match no NC face
@@ -293,7 +292,7 @@ std::size_t prisms_in_gaps(const TetTopology& topo, std::vector<Candidate>& elem
     }
     if (!matches_nc) return 0;
     c.tets.fill(-1);
-    if (!fills_element(topo, c, &soft, options.fill, scratch)) return 0;
+    if (!fills_element(topo, c, &soft, options.fill)) return 0;
     taken.clear();
     for (std::int32_t t : c.tets)
       if (t >= 0 && pyramid_of[t] >= 0 &&
