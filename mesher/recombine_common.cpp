@@ -568,12 +568,30 @@ std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindC
   return all;
 }
 
-QuadKey quad_key(const Candidate& e, int local_face) {
+QuadKey quad_corners(const Candidate& e, int local_face) {
   const LocalFace lf = faces_of(e.kind).face[local_face];
-  QuadKey k;
-  for (int i = 0; i < 4; ++i) k[i] = e.nodes[lf.v[i]];
+  QuadKey q;
+  for (int i = 0; i < 4; ++i) q[i] = e.nodes[lf.v[i]];
+  return q;
+}
+
+QuadKey quad_key(const Candidate& e, int local_face) {
+  QuadKey k = quad_corners(e, local_face);
   std::sort(k.begin(), k.end());
   return k;
+}
+
+std::vector<KeyedTet> tets_by_corners(const TetTopology& topo,
+                                      const std::vector<std::int32_t>& tets) {
+  std::vector<KeyedTet> out;
+  out.reserve(tets.size());
+  for (std::int32_t t : tets) {
+    QuadKey k = topo.mesh().tets[t];
+    std::sort(k.begin(), k.end());
+    out.push_back({k, t});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 namespace {

@@ -245,7 +245,13 @@ double tet_quality(const TetTopology& topo, std::int32_t t);
 // Sorted keys (sorted corners) of every quad face of `elements`; a key listed twice is a face
 // two elements share.
 using QuadKey = std::array<std::int32_t, 4>;
+// The corners of quad face local_face of e, in the face's order; quad_key: the same, sorted.
+QuadKey quad_corners(const Candidate& e, int local_face);
 QuadKey quad_key(const Candidate& e, int local_face);
+// Tets keyed by their sorted corners (a sliver on a quad face has that face's quad_key), sorted.
+using KeyedTet = std::pair<QuadKey, std::int32_t>;
+std::vector<KeyedTet> tets_by_corners(const TetTopology& topo,
+                                      const std::vector<std::int32_t>& tets);
 std::vector<QuadKey> sorted_quad_keys(const std::vector<Candidate>& elements);
 bool quad_shared(const std::vector<QuadKey>& keys, const QuadKey& k);
 

@@ -21,9 +21,7 @@ struct Across {
 // Quad face f of e lies on the surface: its two triangles, split along either diagonal, are
 // surface triangles.
 bool quad_on_surface(const TetTopology& topo, const Candidate& e, int f) {
-  const LocalFace lf = faces_of(e.kind).face[f];
-  std::int32_t q[4];
-  for (int k = 0; k < 4; ++k) q[k] = e.nodes[lf.v[k]];
+  const QuadKey q = quad_corners(e, f);
   return (topo.surface_triangle(q[0], q[1], q[2]) >= 0 &&
           topo.surface_triangle(q[0], q[2], q[3]) >= 0) ||
          (topo.surface_triangle(q[0], q[1], q[3]) >= 0 &&
@@ -122,9 +120,7 @@ bool has_triangle(const std::array<std::int32_t, 4>& T, const std::int32_t* tri)
 // elements' diagonals gets none here (the final pyramid pass handles it).
 bool pyramid_behind(const TetTopology& topo, const Candidate& e, int f, const Candidate& p, int pf,
                     double min_quality, const std::int32_t* taken, int n, Candidate& out) {
-  const LocalFace lf = faces_of(p.kind).face[pf];
-  std::int32_t q[4];
-  for (int k = 0; k < 4; ++k) q[k] = p.nodes[lf.v[k]];
+  const QuadKey q = quad_corners(p, pf);
   const int d = quad_diagonal(topo, p, pf);
   const LocalFace ef = faces_of(e.kind).face[f];
   const int de = quad_diagonal(topo, e, f);
@@ -137,7 +133,7 @@ bool pyramid_behind(const TetTopology& topo, const Candidate& e, int f, const Ca
         return t;
     return std::int32_t{-1};
   };
-  return pyramid_on(topo, q, d, own_tet, min_quality, out);
+  return pyramid_on(topo, q.data(), d, own_tet, min_quality, out);
 }
 
 struct Undo {
@@ -155,9 +151,7 @@ struct Undo {
 // pyramid of at least min_quality on it: the final pyramid pass can then match the face.
 bool pyramid_possible(const TetTopology& topo, const Candidate& c, int f,
                       const std::vector<char>& used, double min_quality) {
-  const LocalFace lf = faces_of(c.kind).face[f];
-  std::int32_t q[4];
-  for (int k = 0; k < 4; ++k) q[k] = c.nodes[lf.v[k]];
+  const QuadKey q = quad_corners(c, f);
   auto free_tet = [&](const std::int32_t* tri) {
     for (auto it = topo.star_begin(tri[0]); it != topo.star_end(tri[0]); ++it)
       if (has_triangle(topo.mesh().tets[*it], tri) &&
@@ -166,7 +160,7 @@ bool pyramid_possible(const TetTopology& topo, const Candidate& c, int f,
     return std::int32_t{-1};
   };
   Candidate unused;
-  return pyramid_on(topo, q, quad_diagonal(topo, c, f), free_tet, min_quality, unused);
+  return pyramid_on(topo, q.data(), quad_diagonal(topo, c, f), free_tet, min_quality, unused);
 }
 
 // Prisms in the gaps between elements, made of free tets and of the tets of whole two-tet
@@ -218,15 +212,10 @@ std::size_t prisms_in_gaps(const TetTopology& topo, std::vector<Candidate>& elem
   };
   // Candidates: prisms with two of these faces, one of them NC, meeting at an edge (u, v) (the
   // wedge of tets between two elements); their lateral edge u-v is the prism's edge 0-3.
-  auto corners = [&](std::int32_t o, std::int32_t* q) {
-    const Candidate& e = elements[o / 6];
-    const LocalFace lf = faces_of(e.kind).face[o % 6];
-    for (int k = 0; k < 4; ++k) q[k] = e.nodes[lf.v[k]];
-  };
+  auto corners = [&](std::int32_t o) { return quad_corners(elements[o / 6], o % 6); };
   std::vector<std::pair<std::uint64_t, std::int32_t>> by_edge;  // (edge, owner face)
   for (const auto& [key, o] : owner) {
-    std::int32_t q[4];
-    corners(o, q);
+    const QuadKey q = corners(o);
     for (int k = 0; k < 4; ++k) by_edge.push_back({edge_key(q[k], q[(k + 1) % 4]), o});
   }
   std::sort(by_edge.begin(), by_edge.end());
@@ -234,8 +223,7 @@ std::size_t prisms_in_gaps(const TetTopology& topo, std::vector<Candidate>& elem
   const auto& X = topo.mesh().nodes;
   for (const auto& [key, o] : owner) {
     if (across[o].element != kTets) continue;
-    std::int32_t q[4];
-    corners(o, q);
+    const QuadKey q = corners(o);
     for (int k = 0; k < 4; ++k) {
       std::int32_t u = q[k], v = q[(k + 1) % 4], x = q[(k + 3) % 4], y = q[(k + 2) % 4];
       if (u > v) {
@@ -246,10 +234,9 @@ std::size_t prisms_in_gaps(const TetTopology& topo, std::vector<Candidate>& elem
           std::lower_bound(by_edge.begin(), by_edge.end(), std::make_pair(edge_key(u, v), -1));
       for (; it != by_edge.end() && it->first == edge_key(u, v); ++it) {
         if (it->second == o) continue;
-        std::int32_t p[4];
-        corners(it->second, p);
-        const int iu = static_cast<int>(std::find(p, p + 4, u) - p);
-        const int iv = static_cast<int>(std::find(p, p + 4, v) - p);
+        const QuadKey p = corners(it->second);
+        const int iu = static_cast<int>(std::find(p.begin(), p.end(), u) - p.begin());
+        const int iv = static_cast<int>(std::find(p.begin(), p.end(), v) - p.begin());
         // The corners next to u and v in the other face, away from the shared edge.
         const std::int32_t x2 = p[(iu + 1) % 4] == v ? p[(iu + 3) % 4] : p[(iu + 1) % 4];
         const std::int32_t y2 = p[(iv + 1) % 4] == u ? p[(iv + 3) % 4] : p[(iv + 1) % 4];
@@ -404,13 +391,7 @@ NcRepair undo_nonconformal_elements(const TetTopology& topo, std::vector<Candida
   std::vector<char> gone(elements.size(), 0);
   r.nc_before = count_nc(elements, across, gone);
   // Absorbed slivers by their sorted corners: undoing an element frees those on its faces.
-  std::vector<std::pair<QuadKey, std::int32_t>> slivers;
-  for (std::int32_t t : absorbed) {
-    QuadKey k = topo.mesh().tets[t];
-    std::sort(k.begin(), k.end());
-    slivers.push_back({k, t});
-  }
-  std::sort(slivers.begin(), slivers.end());
+  const std::vector<KeyedTet> slivers = tets_by_corners(topo, absorbed);
   // 1: every tet it gives back, slivers on its faces included, is good enough to stand alone;
   // 0: not; -1: not known yet.
   std::vector<signed char> good(elements.size(), -1);
@@ -438,7 +419,7 @@ NcRepair undo_nonconformal_elements(const TetTopology& topo, std::vector<Candida
     if (!make_pyramids) return;
     std::int32_t taken[8];
     int n = 0;
-    const Candidate e = elements[i];
+    const Candidate& e = elements[i];
     const CellFaces cf = faces_of(e.kind);
     for (int f = 0; f < cf.count; ++f) {
       const Across o = cf.face[f].n == 4 ? across[6 * i + f] : Across{};

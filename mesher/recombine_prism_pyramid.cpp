@@ -143,8 +143,7 @@ std::vector<Candidate> enumerate_pyramids(const TetTopology& topo,
       for (int f = 0; f < cf.count; ++f) {
         const LocalFace& lf = cf.face[f];
         if (lf.n != 4) continue;
-        std::array<std::int32_t, 4> q;
-        for (int i = 0; i < 4; ++i) q[i] = e.nodes[lf.v[i]];
+        const QuadKey q = quad_corners(e, f);
         if (quad_shared(quads, quad_key(e, f))) continue;
         // The two triangles of the face, split along the diagonal the element's tets use; past a
         // flat sliver on the face, along the other diagonal.

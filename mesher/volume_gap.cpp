@@ -16,12 +16,6 @@ double element_volume(const TetTopology& topo, const Candidate& e) {
   return volume(e.kind, x);
 }
 
-struct KeyedSliver {
-  QuadKey key;
-  std::int32_t tet;
-  bool operator<(const KeyedSliver& o) const { return key != o.key ? key < o.key : tet < o.tet; }
-};
-
 struct Undo {
   double benefit_per_volume, gain;
   std::size_t element;
@@ -55,13 +49,7 @@ VolumeGap limit_volume_gap(const TetTopology& topo, std::vector<Candidate>& elem
   // A few rounds: freeing slivers makes the prediction of a round inexact.
   for (int round = 0; round < 8 && std::abs(g) > budget; ++round) {
     const std::vector<QuadKey> keys = sorted_quad_keys(elements);
-    std::vector<KeyedSliver> slivers;
-    for (std::int32_t t : absorbed) {
-      QuadKey k = topo.mesh().tets[t];
-      std::sort(k.begin(), k.end());
-      slivers.push_back({k, t});
-    }
-    std::sort(slivers.begin(), slivers.end());
+    const std::vector<KeyedTet> slivers = tets_by_corners(topo, absorbed);
     const double sign = g < 0 ? 1.0 : -1.0;  // undoing must move g towards 0
     std::vector<Undo> undo;
     for (std::size_t i = 0; i < elements.size(); ++i) {
@@ -79,10 +67,10 @@ VolumeGap limit_volume_gap(const TetTopology& topo, std::vector<Candidate>& elem
         // A sliver on a shared face is freed too when the neighbour goes in the same round.
         const QuadKey k = quad_key(e, f);
         const bool shared = quad_shared(keys, k);
-        auto it = std::lower_bound(slivers.begin(), slivers.end(), KeyedSliver{k, -1});
-        for (; it != slivers.end() && it->key == k; ++it) {
-          if (!shared) gain += topo.tet_volume(it->tet);
-          keeps_valid = keeps_valid && tet_quality(topo, it->tet) >= keep_sj;
+        auto it = std::lower_bound(slivers.begin(), slivers.end(), KeyedTet{k, -1});
+        for (; it != slivers.end() && it->first == k; ++it) {
+          if (!shared) gain += topo.tet_volume(it->second);
+          keeps_valid = keeps_valid && tet_quality(topo, it->second) >= keep_sj;
         }
       }
       if (!keeps_valid || sign * gain <= 0) continue;

@@ -99,8 +99,7 @@ MixedMesh assemble(const SurfaceMesh& surface, const TetTopology& topo,
     for (int f = 0; f < cf.count; ++f) {
       const LocalFace& lf = cf.face[f];
       if (lf.n != 4) continue;
-      std::int32_t q[4];
-      for (int k = 0; k < 4; ++k) q[k] = e.nodes[lf.v[k]];
+      const QuadKey q = quad_corners(e, f);
       // The surface triangles under the face: split like the element's tets, or along the other
       // diagonal when a flat sliver between the two was absorbed into the element.
       std::int32_t t1 = -1, t2 = -1;
