@@ -294,15 +294,15 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
         const std::int32_t apex = apex_of(topo, u, q0, q1, q2);
         if (apex != apex_of(topo, w, q0, q2, q3)) continue;
         for (int dir = 0; dir < 2; ++dir) {
-          Candidate c;
-          c.kind = CellKind::Pyramid5;
-          c.nodes = {
+          Candidate pyr;
+          pyr.kind = CellKind::Pyramid5;
+          pyr.nodes = {
               quad[0], dir ? quad[3] : quad[1], quad[2], dir ? quad[1] : quad[3], apex, -1, -1, -1};
-          c.tets = {std::min(u, w), std::max(u, w), t, -1, -1, -1, -1};
+          pyr.tets = {std::min(u, w), std::max(u, w), t, -1, -1, -1, -1};
           Vec3 x[5];
-          for (int k = 0; k < 5; ++k) x[k] = m.nodes[c.nodes[k]];
-          c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Pyramid5, x));
-          if (c.quality >= min_pyramid && c.quality > best.quality) best = c;
+          for (int k = 0; k < 5; ++k) x[k] = m.nodes[pyr.nodes[k]];
+          pyr.quality = static_cast<float>(min_scaled_jacobian(CellKind::Pyramid5, x));
+          if (pyr.quality >= min_pyramid && pyr.quality > best.quality) best = pyr;
         }
       }
     }

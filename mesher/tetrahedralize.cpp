@@ -279,8 +279,8 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
         // The face shared with the neighbour: the three vertices both tets have.
         std::int32_t fv[4], n = 0;
         for (int a = 0; a < 4; ++a)
-          for (int c = 0; c < 4; ++c)
-            if (tets[t][a] == tets[nb][c]) fv[n++] = tets[t][a];
+          for (int b = 0; b < 4; ++b)
+            if (tets[t][a] == tets[nb][b]) fv[n++] = tets[t][a];
         if (n != 3) continue;
         // Surface triangles (the output's boundary, equal to the input's) join surface nodes only.
         const auto s_nodes = static_cast<std::int32_t>(ns);

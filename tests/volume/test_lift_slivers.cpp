@@ -24,10 +24,11 @@ MixedMesh cube_cone(const Vec3& p) {
     for (const std::array<int, 3> t : {std::array<int, 3>{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}) {
       std::array<std::int32_t, 4> tet = {t[0], t[1], t[2], 8};
       // Positive orientation: det(b - a, c - a, p - a) > 0, by hand.
-      const Vec3 &a = m.nodes[tet[0]], &b = m.nodes[tet[1]], &c = m.nodes[tet[2]], &q = m.nodes[8];
+      const Vec3 &a = m.nodes[tet[0]], &b = m.nodes[tet[1]], &c = m.nodes[tet[2]],
+                 &apex = m.nodes[8];
       const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
       const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-      const double w[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]};
+      const double w[3] = {apex[0] - a[0], apex[1] - a[1], apex[2] - a[2]};
       const double det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
                          u[2] * (v[0] * w[1] - v[1] * w[0]);
       if (det < 0) std::swap(tet[1], tet[2]);

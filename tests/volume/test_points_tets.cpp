@@ -198,9 +198,9 @@ TEST(VolumePoints, FrontsKeepTheFrameTheyStartedWith) {
       const Vec3 d = synthetic::sub3(p, s.mesh.nodes[v]);
       bool whole = true;
       for (int i = 0; i < 3 && whole; ++i) {
-        const double c =
+        const double steps =
             synthetic::dot3(d, field.vertex_frame(static_cast<std::int32_t>(v))[i]) / h;
-        whole = std::abs(c - std::round(c)) < 1e-9;
+        whole = std::abs(steps - std::round(steps)) < 1e-9;
       }
       if (whole) return true;
     }

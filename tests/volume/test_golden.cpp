@@ -1,0 +1,98 @@
+// Pins the mesher's output: element counts per kind and a hash of the whole mesh (coordinates to
+// the bit, connectivity, boundary faces, NC flags) for a few parts at fixed sizes, against
+// tests/volume/golden_meshes.json. A change meant to leave meshes unchanged must pass this as is;
+// a change meant to move them regenerates the file with scripts/update-golden.sh and says why in
+// its commit.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "mesher/mesh/mesh_stats.hpp"
+#include "mesher/pipeline.hpp"
+
+namespace hexfem {
+namespace {
+
+const std::string kGoldenFile = std::string(HEXFEM_SOURCE_DIR) + "/tests/volume/golden_meshes.json";
+
+// FNV-1a over raw bytes: any change of a coordinate bit or an index changes the hash.
+struct Fnv1a {
+  std::uint64_t h = 1469598103934665603ull;
+  template <class T>
+  void add(const std::vector<T>& v) {
+    const std::uint64_t n = v.size();
+    bytes(&n, sizeof n);
+    bytes(v.data(), v.size() * sizeof(T));
+  }
+  void bytes(const void* p, std::size_t n) {
+    const auto* c = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 1099511628211ull;
+  }
+};
+
+std::string mesh_hash(const MixedMesh& m) {
+  Fnv1a f;
+  f.add(m.nodes);
+  f.add(m.cell_kind);
+  f.add(m.cell_nodes);
+  f.add(m.cell_solid);
+  f.add(m.bface_nodes);
+  f.add(m.bface_cad_face);
+  f.add(m.nc_cell);
+  f.add(m.nc_local_face);
+  char s[17];
+  std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(f.h));
+  return s;
+}
+
+nlohmann::json measure(const std::string& file, double h) {
+  MeshOptions o;
+  o.surface.h = h;
+  const MixedMesh m = mesh_file(std::string(HEXFEM_SOURCE_DIR) + "/" + file, o);
+  const MeshStats st = compute_stats(m);
+  nlohmann::json j;
+  j["file"] = file;
+  j["h"] = h;
+  j["vertices"] = m.nodes.size();
+  for (int k = 0; k < kNumCellKinds; ++k)
+    j[kind_name(static_cast<CellKind>(k))] = st.cells_per_kind[k];
+  j["boundary_faces"] = m.num_bfaces();
+  j["nc_quads"] = m.nc_cell.size();
+  j["hash"] = mesh_hash(m);
+  return j;
+}
+
+// The parts: the demo's steel part, a curved part, the paper's ANC101, a thin-walled part.
+const std::vector<std::pair<std::string, double>> kParts = {
+    {"models/steel_part.step", 1.0},
+    {"tests/data/cylinder.stp", 0.9},
+    {"tests/data/ANC101.stp", 9.0},
+    {"tests/data/0049_control_arm.step", 10.1},
+};
+
+TEST(Golden, MeshesMatchThePinnedCountsAndHashes) {
+  if (std::getenv("HEXFEM_GOLDEN_WRITE")) {  // scripts/update-golden.sh
+    nlohmann::json all = nlohmann::json::array();
+    for (const auto& [file, h] : kParts) all.push_back(measure(file, h));
+    std::ofstream(kGoldenFile) << all.dump(2) << "\n";
+    GTEST_SKIP() << "wrote " << kGoldenFile;
+  }
+  std::ifstream in(kGoldenFile);
+  ASSERT_TRUE(in) << "missing " << kGoldenFile;
+  const nlohmann::json golden = nlohmann::json::parse(in);
+  ASSERT_EQ(golden.size(), kParts.size());
+  for (std::size_t i = 0; i < kParts.size(); ++i) {
+    const nlohmann::json got = measure(kParts[i].first, kParts[i].second);
+    SCOPED_TRACE(got["file"].get<std::string>());
+    for (const auto& [key, value] : golden[i].items()) EXPECT_EQ(got[key], value) << key;
+  }
+}
+
+}  // namespace
+}  // namespace hexfem
