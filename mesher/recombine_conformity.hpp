@@ -12,7 +12,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesher/recombine_common.hpp"
+#include "mesher/recombine_place.hpp"
+#include "mesher/recombine_slivers.hpp"
 #include "mesher/recombine_prism_pyramid.hpp"
 
 namespace hexfem {

@@ -8,7 +8,8 @@
 
 #include <vector>
 
-#include "mesher/recombine_common.hpp"
+#include "mesher/recombine_place.hpp"
+#include "mesher/recombine_slivers.hpp"
 
 namespace hexfem {
 

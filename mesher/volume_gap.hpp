@@ -10,7 +10,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesher/recombine_common.hpp"
+#include "mesher/recombine_place.hpp"
+#include "mesher/recombine_slivers.hpp"
 
 namespace hexfem {
 

@@ -1,0 +1,104 @@
+#include "mesher/recombine_place.hpp"
+
+#include <algorithm>
+
+namespace hexfem {
+
+std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find) {
+  std::vector<std::vector<Candidate>> runs;  // each thread's candidates, sorted, then merged
+#pragma omp parallel
+  {
+    std::vector<Candidate> local;
+    FillScratch scratch;
+#pragma omp for schedule(dynamic, 256) nowait
+    for (std::int32_t v = 0; v < num_vertices; ++v) find(v, scratch, local);
+    std::sort(local.begin(), local.end());
+#pragma omp critical
+    runs.push_back(std::move(local));
+  }
+  // Candidates are distinct and totally ordered: the merged order does not depend on which
+  // thread found what.
+  std::vector<Candidate> all;
+  if (runs.size() == 2) {
+    // Two runs (two threads): each thread merges one half of the output, split where the first
+    // k merged elements end (binary search on the merge path).
+    const std::vector<Candidate>&A = runs[0], &B = runs[1];
+    const std::size_t na = A.size(), nb = B.size(), k = (na + nb) / 2;
+    std::size_t lo = k > nb ? k - nb : 0, hi = std::min(k, na);
+    while (lo < hi) {
+      const std::size_t mid = (lo + hi) / 2;
+      if (A[mid] < B[k - mid - 1])
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    const std::size_t i = lo, j = k - lo;
+    all.resize(na + nb);
+#pragma omp parallel sections
+    {
+#pragma omp section
+      std::merge(A.begin(), A.begin() + i, B.begin(), B.begin() + j, all.begin());
+#pragma omp section
+      std::merge(A.begin() + i, A.end(), B.begin() + j, B.end(), all.begin() + k);
+    }
+    return all;
+  }
+  std::vector<std::size_t> ends{0};
+  for (const auto& r : runs) {
+    all.insert(all.end(), r.begin(), r.end());
+    ends.push_back(all.size());
+  }
+  for (std::size_t r = 2; r < ends.size(); ++r)
+    std::inplace_merge(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(ends[r - 1]),
+                       all.begin() + static_cast<std::ptrdiff_t>(ends[r]));
+  return all;
+}
+
+std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candidate>& cands,
+                                      std::vector<char>& used, ConformityIndex& index,
+                                      const FillRules& rules) {
+  if (!std::is_sorted(cands.begin(), cands.end())) std::sort(cands.begin(), cands.end());
+  // Free tets around each vertex: a candidate with a corner whose tets are all taken cannot be
+  // placed, and on big parts most candidates are rejected by this before any fill test.
+  const TetMesh& m = topo.mesh();
+  std::vector<std::int32_t> free_around(m.nodes.size(), 0);
+  for (std::size_t t = 0; t < m.tets.size(); ++t)
+    if (!used[t])
+      for (std::int32_t v : m.tets[t]) ++free_around[v];
+  auto possible = [&](const Candidate& c) {
+    for (int i = 0; i < num_nodes(c.kind); ++i)
+      if (free_around[c.nodes[i]] == 0) return false;
+    return true;
+  };
+  // In chunks, best first: the fill tests of a chunk's still possible candidates on all threads
+  // (they only read `used`), then the serial greedy pass over the chunk.
+  constexpr std::size_t kChunk = 1 << 15;
+  std::vector<char> fillable(std::min(cands.size(), kChunk));
+  std::vector<Candidate> kept;
+  for (std::size_t start = 0; start < cands.size(); start += kChunk) {
+    const std::size_t end = std::min(cands.size(), start + kChunk);
+    const auto count = static_cast<std::ptrdiff_t>(end - start);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t k = 0; k < count; ++k) {
+      Candidate& c = cands[start + k];
+      fillable[k] = possible(c) && (c.tets[0] >= 0 || fills_element(topo, c, &used, rules));
+    }
+    for (std::size_t i = start; i < end; ++i) {
+      const Candidate& c = cands[i];
+      if (!fillable[i - start] || !possible(c)) continue;
+      bool free = true;
+      for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
+      if (!free || index.conflicts(c)) continue;
+      for (std::int32_t t : c.tets) {
+        if (t < 0) continue;
+        used[t] = 1;
+        for (std::int32_t v : m.tets[t]) --free_around[v];
+      }
+      index.add(c);
+      kept.push_back(c);
+    }
+  }
+  return kept;
+}
+
+}  // namespace hexfem

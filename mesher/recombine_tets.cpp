@@ -1,0 +1,95 @@
+#include "mesher/recombine_tets.hpp"
+
+#include <algorithm>
+
+#include "mesher/mesh/quality.hpp"
+
+namespace hexfem {
+
+TriKey tri_key(std::int32_t a, std::int32_t b, std::int32_t c) {
+  if (a > b) std::swap(a, b);
+  if (b > c) std::swap(b, c);
+  if (a > b) std::swap(a, b);
+  return {{a, b, c}};
+}
+
+TetTopology::TetTopology(const TetMesh& tets, const SurfaceMesh& surface) : mesh_(tets) {
+  const std::size_t nv = tets.nodes.size(), nt = tets.tets.size();
+  // Star: counting sort by vertex keeps tets in increasing order around each vertex.
+  star_off_.assign(nv + 1, 0);
+  for (const auto& T : tets.tets)
+    for (std::int32_t v : T) ++star_off_[v + 1];
+  for (std::size_t v = 0; v < nv; ++v) star_off_[v + 1] += star_off_[v];
+  star_.resize(star_off_[nv]);
+  {
+    std::vector<std::int32_t> fill(star_off_.begin(), star_off_.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t)
+      for (std::int32_t v : tets.tets[t]) star_[fill[v]++] = static_cast<std::int32_t>(t);
+  }
+  upper_off_.assign(nv + 1, 0);
+  for (const auto& T : tets.tets) ++upper_off_[*std::min_element(T.begin(), T.end()) + 1];
+  for (std::size_t v = 0; v < nv; ++v) upper_off_[v + 1] += upper_off_[v];
+  upper_.resize(nt);
+  {
+    std::vector<std::int32_t> fill(upper_off_.begin(), upper_off_.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t) {
+      const auto& T = tets.tets[t];
+      const int lo = static_cast<int>(std::min_element(T.begin(), T.end()) - T.begin());
+      UpperTet& u = upper_[fill[T[lo]]++];
+      u.tet = static_cast<std::int32_t>(t);
+      for (int k = 1; k < 4; ++k) u.v[k - 1] = T[(lo + k) % 4];
+    }
+  }
+  // Neighbours: the other vertices of the star, sorted and unique; each vertex's list is made in
+  // its slot of 3 x its star (on all threads), then the slots are packed.
+  std::vector<std::int32_t> wide(3 * star_.size());
+  std::vector<std::int32_t> count(nv);
+  const auto num_v = static_cast<std::ptrdiff_t>(nv);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::ptrdiff_t v = 0; v < num_v; ++v) {
+    std::int32_t* begin = &wide[3 * static_cast<std::size_t>(star_off_[v])];
+    std::int32_t* end = begin;
+    for (auto it = star_begin(v); it != star_end(v); ++it)
+      for (std::int32_t w : tets.tets[*it])
+        if (w != v) *end++ = w;
+    std::sort(begin, end);
+    count[v] = static_cast<std::int32_t>(std::unique(begin, end) - begin);
+  }
+  adj_off_.assign(nv + 1, 0);
+  for (std::size_t v = 0; v < nv; ++v) adj_off_[v + 1] = adj_off_[v] + count[v];
+  adj_.resize(adj_off_[nv]);
+  for (std::size_t v = 0; v < nv; ++v)
+    std::copy_n(&wide[3 * static_cast<std::size_t>(star_off_[v])], count[v], &adj_[adj_off_[v]]);
+  const MixedMesh& sm = surface.mesh;
+  num_surface_ = sm.nodes.size();
+  cad_face_ = sm.bface_cad_face;
+  surface_tri_.reserve(sm.num_bfaces());
+  for (std::size_t t = 0; t < sm.num_bfaces(); ++t)
+    surface_tri_.emplace(tri_key(sm.bface(t)[0], sm.bface(t)[1], sm.bface(t)[2]),
+                         static_cast<std::int32_t>(t));
+  tet_volume_.resize(nt);
+  const auto num_t = static_cast<std::ptrdiff_t>(nt);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t t = 0; t < num_t; ++t) {
+    Vec3 x[4];
+    for (int i = 0; i < 4; ++i) x[i] = tets.nodes[tets.tets[t][i]];
+    tet_volume_[t] = volume(CellKind::Tet4, x);
+  }
+}
+
+bool TetTopology::adjacent(std::int32_t a, std::int32_t b) const {
+  return std::binary_search(neighbours_begin(a), neighbours_end(a), b);
+}
+
+std::int32_t TetTopology::surface_triangle(std::int32_t a, std::int32_t b, std::int32_t c) const {
+  const std::int32_t* t = surface_tri_.find(tri_key(a, b, c));
+  return t ? *t : -1;
+}
+
+double tet_quality(const TetTopology& topo, std::int32_t t) {
+  Vec3 x[4];
+  for (int i = 0; i < 4; ++i) x[i] = topo.mesh().nodes[topo.mesh().tets[t][i]];
+  return min_scaled_jacobian(CellKind::Tet4, x);
+}
+
+}  // namespace hexfem
