@@ -14,27 +14,27 @@ namespace hexfem {
 NodeGraph node_graph(const MixedMesh& mesh) {
   const long nn = static_cast<long>(mesh.nodes.size());
   const long nc = static_cast<long>(mesh.num_cells());
-  // Node -> cells, CSR.
+  // Node -> cells, CSR (every node of the element: the mid-edge nodes too at order 2).
   std::vector<long> cptr(nn + 1, 0);
-  for (std::int32_t v : mesh.cell_nodes)
-    if (v >= 0) ++cptr[v + 1];
+  std::int32_t ids[kMaxElementNodes];
+  for (long c = 0; c < nc; ++c)
+    for (int k = 0, n = mesh.element_nodes(c, ids); k < n; ++k) ++cptr[ids[k] + 1];
   for (long i = 0; i < nn; ++i) cptr[i + 1] += cptr[i];
   std::vector<std::int32_t> cells(cptr[nn]);
   {
     std::vector<long> fill(cptr.begin(), cptr.end() - 1);
     for (long c = 0; c < nc; ++c)
-      for (int k = 0; k < kMaxCellNodes; ++k)
-        if (const std::int32_t v = mesh.cell_nodes[kMaxCellNodes * c + k]; v >= 0)
-          cells[fill[v]++] = static_cast<std::int32_t>(c);
+      for (int k = 0, n = mesh.element_nodes(c, ids); k < n; ++k)
+        cells[fill[ids[k]]++] = static_cast<std::int32_t>(c);
   }
   std::vector<std::vector<std::int32_t>> lists(nn);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (long i = 0; i < nn; ++i) {
     auto& l = lists[i];
+    std::int32_t en[kMaxElementNodes];
     for (long p = cptr[i]; p < cptr[i + 1]; ++p)
-      for (int k = 0; k < kMaxCellNodes; ++k)
-        if (const std::int32_t v = mesh.cell_nodes[kMaxCellNodes * cells[p] + k]; v >= 0 && v != i)
-          l.push_back(v);
+      for (int k = 0, n = mesh.element_nodes(cells[p], en); k < n; ++k)
+        if (en[k] != i) l.push_back(en[k]);
     std::sort(l.begin(), l.end());
     l.erase(std::unique(l.begin(), l.end()), l.end());
   }
@@ -120,19 +120,22 @@ SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const
   double mass = 0;
 #pragma omp parallel reduction(+ : mass)
   {
-    double Ke[24 * 24], me[8 * 8];
-    Vec3 x[kMaxCellNodes];
+    constexpr int kMaxDofs = 3 * kMaxElementNodes;
+    std::vector<double> Ke(kMaxDofs * kMaxDofs), me(kMaxElementNodes * kMaxElementNodes);
+    Vec3 x[kMaxElementNodes];
+    std::int32_t ids[kMaxElementNodes];
 #pragma omp for schedule(dynamic, 256)
     for (long c = 0; c < nc; ++c) {
       const CellKind kind = mesh.cell_kind[c];
-      const ReferenceElement& ref = reference_element(kind);
+      const ReferenceElement& ref = reference_element(kind, mesh.order);
       const int n = ref.n, nd = 3 * n;
-      const std::int32_t* ids = mesh.cell(c);
+      mesh.element_nodes(c, ids);
       for (int i = 0; i < n; ++i)
         for (int d = 0; d < 3; ++d) x[i][d] = mesh.nodes[ids[i]][d] * length_scale;
-      const bool bad = !(element_matrices(ref, x, mat, Ke, me) > 0) ||
-                       (incompatible_hex && kind == CellKind::Hex8 &&
-                        !(hex8_incompatible_stiffness(x, mat, Ke) > 0));
+      // Incompatible modes enrich the trilinear hex only; hex20 needs none.
+      const bool bad = !(element_matrices(ref, x, mat, Ke.data(), me.data()) > 0) ||
+                       (incompatible_hex && kind == CellKind::Hex8 && mesh.order == 1 &&
+                        !(hex8_incompatible_stiffness(x, mat, Ke.data()) > 0));
       if (bad) {
         long expected = bad_cell.load();
         while (c < expected && !bad_cell.compare_exchange_weak(expected, c)) {
@@ -176,7 +179,7 @@ SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const
   }
   if (bad_cell.load() != std::numeric_limits<long>::max()) {
     const long c = bad_cell.load();
-    throw Error("cell " + std::to_string(c + 1) + " (" + kind_name(mesh.cell_kind[c]) +
+    throw Error("cell " + std::to_string(c + 1) + " (" + kind_name(mesh.cell_kind[c], mesh.order) +
                 ") has a non-positive Jacobian determinant: it is inverted or degenerate");
   }
   sys.mass = mass;

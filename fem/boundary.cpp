@@ -60,6 +60,8 @@ std::vector<std::uint8_t> used_nodes(const MixedMesh& mesh) {
   std::vector<std::uint8_t> used(mesh.nodes.size(), 0);
   for (std::int32_t v : mesh.cell_nodes)
     if (v >= 0) used[v] = 1;
+  for (std::int32_t v : mesh.cell_edge_nodes)  // order 2
+    if (v >= 0) used[v] = 1;
   return used;
 }
 
@@ -69,8 +71,11 @@ std::vector<std::int32_t> face_nodes(const MixedMesh& mesh, Pred take) {
   std::vector<std::int32_t> nodes;
   for (std::size_t f = 0; f < mesh.num_bfaces(); ++f)
     if (take(f))
-      for (int q = 0; q < 4; ++q)
+      for (int q = 0; q < 4; ++q) {
         if (mesh.bface(f)[q] >= 0) nodes.push_back(mesh.bface(f)[q]);
+        if (mesh.order == 2 && mesh.bface_edge_nodes[4 * f + q] >= 0)
+          nodes.push_back(mesh.bface_edge_nodes[4 * f + q]);
+      }
   return nodes;
 }
 

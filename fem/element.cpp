@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
 
 namespace hexfem {
@@ -24,6 +25,39 @@ void shape_functions(CellKind kind, const Vec3& xi, ShapeValues& s) {
   }
 }
 
+void shape_functions(CellKind kind, int order, const Vec3& xi, ShapeValues& s) {
+  if (order != 2) return shape_functions(kind, xi, s);
+  switch (kind) {
+    case CellKind::Hex8:
+      hex20_shape(xi, s);
+      return;
+    case CellKind::Wedge6:
+      wedge15_shape(xi, s);
+      return;
+    case CellKind::Pyramid5:
+      pyramid13_shape(xi, s);
+      return;
+    case CellKind::Tet4:
+      tet10_shape(xi, s);
+      return;
+  }
+}
+
+QuadRule default_rule(CellKind kind, int order) {
+  if (order != 2) return default_rule(kind);
+  switch (kind) {
+    case CellKind::Hex8:
+      return hex20_rule();
+    case CellKind::Wedge6:
+      return wedge15_rule();
+    case CellKind::Pyramid5:
+      return pyramid13_rule();
+    case CellKind::Tet4:
+      return tet10_rule();
+  }
+  return {};
+}
+
 QuadRule default_rule(CellKind kind) {
   switch (kind) {
     case CellKind::Hex8:
@@ -39,23 +73,31 @@ QuadRule default_rule(CellKind kind) {
 }
 
 ReferenceElement tabulate(CellKind kind, const QuadRule& rule) {
+  return tabulate(kind, 1, rule);
+}
+
+ReferenceElement tabulate(CellKind kind, int order, const QuadRule& rule) {
   ReferenceElement ref;
   ref.kind = kind;
-  ref.n = num_nodes(kind);
+  ref.order = order;
+  ref.n = num_nodes(kind, order);
   for (const QuadPoint& p : rule) {
     ShapeValues s;
-    shape_functions(kind, p.xi, s);
+    shape_functions(kind, order, p.xi, s);
     ref.shape.push_back(s);
     ref.weight.push_back(p.w);
   }
   return ref;
 }
 
-const ReferenceElement& reference_element(CellKind kind) {
+const ReferenceElement& reference_element(CellKind kind, int order) {
   static const ReferenceElement table[kNumCellKinds] = {
       tabulate(CellKind::Tet4, tet4_rule()), tabulate(CellKind::Pyramid5, pyramid5_rule()),
       tabulate(CellKind::Wedge6, wedge6_rule()), tabulate(CellKind::Hex8, hex8_rule())};
-  return table[static_cast<int>(kind)];
+  static const ReferenceElement table2[kNumCellKinds] = {
+      tabulate(CellKind::Tet4, 2, tet10_rule()), tabulate(CellKind::Pyramid5, 2, pyramid13_rule()),
+      tabulate(CellKind::Wedge6, 2, wedge15_rule()), tabulate(CellKind::Hex8, 2, hex20_rule())};
+  return (order == 2 ? table2 : table)[static_cast<int>(kind)];
 }
 
 namespace {
@@ -97,7 +139,7 @@ double element_matrices(const ReferenceElement& ref, const Vec3* x, const Materi
   std::fill(m, m + n * n, 0.0);
   const double lambda = mat.lambda(), mu = mat.mu();
   double min_det = std::numeric_limits<double>::infinity();
-  double g[kMaxCellNodes][3];
+  double g[kMaxElementNodes][3];
   for (std::size_t q = 0; q < ref.shape.size(); ++q) {
     const ShapeValues& s = ref.shape[q];
     const double det = physical_gradients(s, x, g);
@@ -126,10 +168,76 @@ double element_matrices(const ReferenceElement& ref, const Vec3* x, const Materi
   return min_det;
 }
 
+std::vector<Vec3> reference_nodes(CellKind kind, int order) {
+  std::vector<Vec3> x;
+  switch (kind) {
+    case CellKind::Hex8:
+      x = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+           {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+      break;
+    case CellKind::Wedge6:
+      x = {{0, 0, -1}, {1, 0, -1}, {0, 1, -1}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+      break;
+    case CellKind::Pyramid5:
+      x = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, {0, 0, 1}};
+      break;
+    case CellKind::Tet4:
+      x = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+      break;
+  }
+  if (order == 2)
+    for (int e = 0; e < num_edges(kind); ++e) {
+      const Vec3 &a = x[edges_of(kind)[e][0]], &b = x[edges_of(kind)[e][1]];
+      x.push_back({(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2});
+    }
+  return x;
+}
+
+namespace {
+
+// The production rule's points and the nodes of each kind and order, tabulated once.
+const ReferenceElement& validity_samples(CellKind kind, int order) {
+  static const auto make = [](CellKind k, int o) {
+    QuadRule rule = default_rule(k, o);
+    for (Vec3 p : reference_nodes(k, o)) {
+      if (k == CellKind::Pyramid5 && p[2] == 1) p[2] = 0.99;
+      rule.push_back({p, 1.0});
+    }
+    return tabulate(k, o, rule);
+  };
+  static const ReferenceElement table[2][kNumCellKinds] = {
+      {make(CellKind::Tet4, 1), make(CellKind::Pyramid5, 1), make(CellKind::Wedge6, 1),
+       make(CellKind::Hex8, 1)},
+      {make(CellKind::Tet4, 2), make(CellKind::Pyramid5, 2), make(CellKind::Wedge6, 2),
+       make(CellKind::Hex8, 2)}};
+  return table[order == 2][static_cast<int>(kind)];
+}
+
+}  // namespace
+
+double element_jacobian_ratio(const MixedMesh& mesh, std::size_t c) {
+  const ReferenceElement& ref = validity_samples(mesh.cell_kind[c], mesh.order);
+  std::int32_t ids[kMaxElementNodes];
+  mesh.element_nodes(c, ids);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const ShapeValues& s : ref.shape) {
+    double J[3][3] = {};
+    for (int i = 0; i < s.n; ++i)
+      for (int a = 0; a < 3; ++a)
+        for (int d = 0; d < 3; ++d) J[a][d] += mesh.nodes[ids[i]][a] * s.dN[i][d];
+    const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+                       J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                       J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+    lo = std::min(lo, det);
+    hi = std::max(hi, det);
+  }
+  return hi > 0 ? lo / hi : -1.0;
+}
+
 std::vector<std::array<double, 6>> element_strains(const ReferenceElement& ref, const Vec3* x,
                                                    const double* u) {
   std::vector<std::array<double, 6>> out;
-  double g[kMaxCellNodes][3];
+  double g[kMaxElementNodes][3];
   for (const ShapeValues& s : ref.shape) {
     if (!(physical_gradients(s, x, g) > 0)) throw Error("element_strains: inverted element");
     double du[3][3] = {};  // du[a][b] = d u_a / d x_b

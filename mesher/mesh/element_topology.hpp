@@ -49,6 +49,42 @@ constexpr const CellFaces& faces_of(CellKind k) {
   return kCellFaces[static_cast<int>(k)];
 }
 
+// Edges of each kind in the order of the order-2 element's mid-edge nodes (Gmsh's tet10,
+// pyramid13, prism15 and hex20): mid-edge node k of a cell lies on edge kCellEdges[kind][k].
+inline constexpr std::array<std::array<int, 2>, kMaxCellEdges> kCellEdges[kNumCellKinds] = {
+    // Tet4 -> tet10
+    {{{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}}},
+    // Pyramid5 -> pyramid13
+    {{{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 4}, {2, 3}, {2, 4}, {3, 4}}},
+    // Wedge6 -> prism15
+    {{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 4}, {2, 5}, {3, 4}, {3, 5}, {4, 5}}},
+    // Hex8 -> hex20
+    {{{0, 1},
+      {0, 3},
+      {0, 4},
+      {1, 2},
+      {1, 5},
+      {2, 3},
+      {2, 6},
+      {3, 7},
+      {4, 5},
+      {4, 7},
+      {5, 6},
+      {6, 7}}}};
+
+constexpr const std::array<std::array<int, 2>, kMaxCellEdges>& edges_of(CellKind k) {
+  return kCellEdges[static_cast<int>(k)];
+}
+
+// The local edge joining corners a and b of a kind, -1 if none.
+constexpr int local_edge(CellKind k, int a, int b) {
+  for (int e = 0; e < num_edges(k); ++e) {
+    const auto& ed = edges_of(k)[e];
+    if ((ed[0] == a && ed[1] == b) || (ed[0] == b && ed[1] == a)) return e;
+  }
+  return -1;
+}
+
 // For each corner of a cell: the corners joined to it by an edge, ordered so that
 // (e1, e2, e3) = (v[a]-v[i], v[b]-v[i], v[c]-v[i]) is right-handed on a positive cell.
 // The pyramid apex has four edges; its corner is handled specially by quality code

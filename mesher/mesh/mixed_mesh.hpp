@@ -16,7 +16,9 @@ using Vec3 = std::array<double, 3>;
 // Volume element kinds, Gmsh node ordering (see element_topology.hpp for the faces).
 enum class CellKind : std::uint8_t { Tet4 = 0, Pyramid5 = 1, Wedge6 = 2, Hex8 = 3 };
 inline constexpr int kNumCellKinds = 4;
-inline constexpr int kMaxCellNodes = 8;
+inline constexpr int kMaxCellNodes = 8;      // corner slots per cell
+inline constexpr int kMaxCellEdges = 12;     // mid-edge slots per cell (order 2)
+inline constexpr int kMaxElementNodes = 20;  // corners + mid-edge nodes (hex20)
 
 constexpr int num_nodes(CellKind k) {
   switch (k) {
@@ -32,6 +34,25 @@ constexpr int num_nodes(CellKind k) {
   return 0;
 }
 
+constexpr int num_edges(CellKind k) {
+  switch (k) {
+    case CellKind::Tet4:
+      return 6;
+    case CellKind::Pyramid5:
+      return 8;
+    case CellKind::Wedge6:
+      return 9;
+    case CellKind::Hex8:
+      return 12;
+  }
+  return 0;
+}
+
+// Nodes of the element of this kind and order (order 2: one more node per edge).
+constexpr int num_nodes(CellKind k, int order) {
+  return order == 2 ? num_nodes(k) + num_edges(k) : num_nodes(k);
+}
+
 constexpr const char* kind_name(CellKind k) {
   switch (k) {
     case CellKind::Tet4:
@@ -44,6 +65,15 @@ constexpr const char* kind_name(CellKind k) {
       return "hex8";
   }
   return "?";
+}
+
+// The element's name at this order (order 2: tet10, pyramid13, wedge15, hex20).
+constexpr const char* kind_name(CellKind k, int order) {
+  if (order != 2) return kind_name(k);
+  return k == CellKind::Tet4       ? "tet10"
+         : k == CellKind::Pyramid5 ? "pyramid13"
+         : k == CellKind::Wedge6   ? "wedge15"
+                                   : "hex20";
 }
 
 struct MixedMesh {
@@ -67,6 +97,16 @@ struct MixedMesh {
   std::vector<std::int32_t> nc_cell;
   std::vector<std::int8_t> nc_local_face;
 
+  // Element order: 1 (corners only) or 2. At order 2 every cell has a node at the middle of each
+  // edge (placed on the CAD geometry on the boundary), appended to `nodes` after the corners;
+  // cell_edge_nodes holds kMaxCellEdges slots per cell in the edge order of element_topology.hpp
+  // (Gmsh's), -1 past the kind's edge count, and bface_edge_nodes 4 slots per boundary face:
+  // the node on edge (v[i], v[i+1]) at slot i, -1 for a triangle's fourth. Both are empty at
+  // order 1, so order-1 code that reads only the corners (cell(), bface()) stays valid.
+  int order = 1;
+  std::vector<std::int32_t> cell_edge_nodes;
+  std::vector<std::int32_t> bface_edge_nodes;
+
   // Physical group names as read from or written to MSH: (dimension, tag) -> name.
   std::map<std::pair<int, int>, std::string> physical_names;
 
@@ -75,6 +115,20 @@ struct MixedMesh {
   const std::int32_t* cell(std::size_t c) const { return &cell_nodes[kMaxCellNodes * c]; }
   const std::int32_t* bface(std::size_t f) const { return &bface_nodes[4 * f]; }
   bool bface_is_quad(std::size_t f) const { return bface_nodes[4 * f + 3] >= 0; }
+
+  const std::int32_t* cell_edges(std::size_t c) const {
+    return &cell_edge_nodes[kMaxCellEdges * c];
+  }
+  // Every node of cell c in the element's order (corners, then mid-edge nodes at order 2) into
+  // `out` (kMaxElementNodes slots); returns the count.
+  int element_nodes(std::size_t c, std::int32_t* out) const {
+    const int nc = num_nodes(cell_kind[c]);
+    for (int i = 0; i < nc; ++i) out[i] = cell_nodes[kMaxCellNodes * c + i];
+    if (order != 2) return nc;
+    const int ne = num_edges(cell_kind[c]);
+    for (int i = 0; i < ne; ++i) out[nc + i] = cell_edge_nodes[kMaxCellEdges * c + i];
+    return nc + ne;
+  }
 
   // Appends a cell; `ids` holds num_nodes(kind) node indices.
   void add_cell(CellKind kind, const std::int32_t* ids, std::int32_t solid = 1,

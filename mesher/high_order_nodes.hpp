@@ -1,0 +1,42 @@
+// Order 2 from an order-1 mesh: one node at the middle of every edge (shared edges get one node),
+// the ones on the boundary moved onto the CAD geometry, and the local straightening of cells that
+// curving would make invalid. The Jacobian check itself is the caller's (fem knows the elements;
+// this layer does not).
+#pragma once
+
+#include <functional>
+
+#include "mesher/mesh/mixed_mesh.hpp"
+
+namespace hexfem {
+
+struct Order2Report {
+  long edge_nodes = 0;          // mid-edge nodes added
+  long boundary_nodes = 0;      // of those, on boundary faces
+  long curved_nodes = 0;        // boundary nodes the geometry moved off the straight midpoint
+  long projection_refused = 0;  // boundary nodes left straight: the projection jumped too far
+  double max_offset = 0;        // largest |node - midpoint| / edge length
+  long straightened_cells = 0;  // cells made valid by setting their curved nodes back straight
+  long straightened_nodes = 0;
+};
+
+// Where the mid-edge node of boundary edge (a, b) goes: the edge lies on CAD faces face1 and
+// face2 of the boundary faces beside it (equal inside a face, different on a CAD edge).
+using MidEdgeProjector = std::function<Vec3(const Vec3& a, const Vec3& b, int face1, int face2)>;
+
+// Makes `mesh` order 2 (mesh.order, cell_edge_nodes, bface_edge_nodes, new nodes appended).
+// Without a projector every node stays at its edge's midpoint (straight elements). A projected
+// point farther than half the edge length from the midpoint is refused (kept straight).
+void add_mid_edge_nodes(MixedMesh& mesh, const MidEdgeProjector& project = {},
+                        Order2Report* report = nullptr);
+
+// Cell c's worst Jacobian: min det J / max det J over its sample points (<= 0: inverted).
+using CellJacobianRatio = std::function<double(const MixedMesh& mesh, std::size_t c)>;
+
+// Every cell whose ratio is below `min_ratio` gets its curved nodes set back to their edges'
+// midpoints (so do its neighbours' shared edges), while that raises its ratio; repeated until
+// no cell changes. Throws hexfem::Error naming the first cell still inverted afterwards.
+void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
+                              Order2Report* report = nullptr);
+
+}  // namespace hexfem
