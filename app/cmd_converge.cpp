@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
 #include "app/convergence_table.hpp"
+#include "app/modal_cli.hpp"
 #include "app/part_modal.hpp"
 #include "fem/material.hpp"
 #include "mesher/mesh/error.hpp"
@@ -17,22 +19,24 @@ namespace {
 struct ConvergeArgs {
   std::string file;
   std::vector<double> sizes;
-  std::vector<std::string> fix;
-  std::string material = "steel";
-  int modes = 6;
+  ModalCliOptions modal;  // --fix --material --E --nu --rho --modes --hex8 --force
   std::string reference;
   std::string output;
   bool json = false;
   int curvature = 0;
-  std::string hex8 = "incompatible";
+  ConvergeArgs() { modal.modes = 6; }
 };
 
 int run(const ConvergeArgs& a) {
   if (!is_cad_file(a.file)) throw Error("'" + a.file + "' is not a CAD file (.step .iges .brep)");
   if (a.sizes.empty()) throw Error("--h needs at least one size");
   for (double h : a.sizes)
-    if (!(h > 0)) throw Error("--h: every size must be > 0");
-  if (a.fix.empty()) throw Error("--fix is required for a convergence study (e.g. --fix face:8)");
+    if (!(h > 0) || !std::isfinite(h)) throw Error("--h: every size must be finite and > 0");
+  if (a.modal.fix.empty())
+    throw Error("--fix is required for a convergence study (e.g. --fix face:8)");
+  const ModalOptions modal = modal_options_from(a.modal);
+  check_input_file(a.file);
+  if (!a.output.empty()) check_output_folder("-o", a.output);
 
   ConvergenceStudy study;
   study.part = std::filesystem::path(a.file).filename().string();
@@ -41,19 +45,14 @@ int run(const ConvergeArgs& a) {
     study.reference_source = a.reference;
   }
   const CadModel cad = CadModel::read(a.file);
-  check_fixed_faces_exist(cad, a.fix);
-  ModalOptions modal;
-  modal.material = material_by_name(a.material);
-  modal.fix = a.fix;
-  modal.num_modes = a.modes;
-  modal.incompatible_hex = incompatible_hex_from_option(a.hex8);
+  check_fixed_faces_exist(cad, a.modal.fix);
 
   for (std::size_t i = 0; i < a.sizes.size(); ++i) {
     MeshOptions mesh;
     mesh.surface.h = a.sizes[i];
     mesh.surface.curvature = a.curvature;
     std::fprintf(stderr, "converge: run %zu/%zu, h = %g ...\n", i + 1, a.sizes.size(), a.sizes[i]);
-    const PartModalResult r = run_part_modal(cad, mesh, modal);
+    const PartModalResult r = run_part_modal(cad, mesh, modal, a.modal.force);
     ConvergenceRow row;
     row.h = a.sizes[i];
     row.nodes = static_cast<long>(r.mesh.nodes.size());
@@ -74,9 +73,9 @@ int run(const ConvergeArgs& a) {
   if (a.json) {
     nlohmann::json j;
     j["part"] = a.file;
-    j["material"] = a.material;
-    j["hex8"] = a.hex8;
-    j["fix"] = a.fix;
+    j["material"] = modal.material.name;
+    j["hex8"] = a.modal.hex8;
+    j["fix"] = a.modal.fix;
     j["reference_hz"] = study.reference;
     j["rows"] = nlohmann::json::array();
     for (std::size_t r = 0; r < study.rows.size(); ++r) {
@@ -102,7 +101,8 @@ int run(const ConvergeArgs& a) {
     return 0;
   }
   std::printf("%s: material '%s', fixed %s, hex8 %s; lengths in mm, frequencies in Hz\n",
-              study.part.c_str(), a.material.c_str(), a.fix.front().c_str(), a.hex8.c_str());
+              study.part.c_str(), modal.material.name.c_str(), a.modal.fix.front().c_str(),
+              a.modal.hex8.c_str());
   std::printf("%s", convergence_text(study).c_str());
   for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
   return 0;
@@ -116,13 +116,10 @@ RegisterCommand reg{
        sub.add_option("--h", a->sizes, "mesh sizes, coarse to fine, e.g. 2,1,0.5")
            ->required()
            ->delimiter(',');
-       sub.add_option("--fix", a->fix, "fixed faces, e.g. face:8 (ids from hexfem info)");
-       sub.add_option("--material", a->material, "steel, aluminium or titanium");
-       sub.add_option("--modes", a->modes, "number of modes per run");
+       add_modal_options(sub, a->modal);
        sub.add_option("--reference", a->reference, "JSON with \"reference_hz\": [...]");
        sub.add_option("-o,--output", a->output, "stem of the CSV/Markdown/PNG files");
        sub.add_option("--curvature", a->curvature, "curvature bound: N elements per 2*pi");
-       sub.add_option("--hex8", a->hex8, "hex formulation: incompatible (default) or full");
        sub.add_flag("--json", a->json, "print the study as JSON");
        return [a] { return run(*a); };
      }}};

@@ -1,4 +1,6 @@
-// hexfem convert in.msh out.{msh,vtu,inp} [--binary]: format from the extensions.
+// hexfem convert in.msh out.{msh,vtu,inp} [--binary]: format from the extensions (in any case).
+// A .vtu of a mesh with non-conformal quad faces comes with <out>_nc.vtu, those faces alone.
+#include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 
@@ -14,6 +16,9 @@ RegisterCommand reg{{"convert", "Convert a mesh between formats (.msh in; .msh, 
                        sub.add_option("output", *out, "Output mesh (.msh, .vtu, .inp)")->required();
                        sub.add_flag("--binary", *binary, "Write MSH 4.1 binary");
                        return [in, out, binary] {
+                         check_input_file(*in);
+                         check_output_file("output", *out, {"msh", "vtu", "inp"}, {*in});
+                         check_binary_format(*binary, *out);
                          const MixedMesh mesh = read_mesh(*in);
                          write_mesh(mesh, *out, MshWriteOptions{*binary});
                          return 0;

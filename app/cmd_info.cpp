@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
 #include "mesher/cad/cad_model.hpp"
 
@@ -78,6 +79,7 @@ RegisterCommand reg{{"info", "List the solids and faces of a CAD file (ids, type
                        sub.add_option("file", *file, "STEP, IGES or BREP file")->required();
                        sub.add_flag("--json", *json, "print JSON on stdout");
                        return [=] {
+                         check_input_file(*file);
                          const CadModel cad = CadModel::read(*file);
                          if (*json)
                            std::printf("%s\n", model_json(*file, cad).dump(2).c_str());

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 
+#include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
 #include "app/volume_mesh_cli.hpp"
 #include "mesher/cad/cad_model.hpp"
@@ -45,11 +46,14 @@ std::pair<int, double> parse_size_at(const std::string& s) {
 int run(const MeshArgs& a) {
   using Clock = std::chrono::steady_clock;
   if (a.dim != 2 && a.dim != 3) throw Error("--dim must be 2 (surface) or 3 (volume)");
+  check_finite("--h", a.h);
   if (!(a.h > 0)) throw Error("--h must be > 0 (got " + std::to_string(a.h) + ")");
+  check_input_file(a.file);
   if (!a.output.empty()) {
-    const std::string ext = std::filesystem::path(a.output).extension().string();
-    if (ext != ".msh" && ext != ".vtu" && ext != ".inp")
-      throw Error("-o '" + a.output + "': the output must end in .msh, .vtu or .inp");
+    check_output_file("-o", a.output, {"msh", "vtu", "inp"}, {a.file});
+    check_binary_format(a.binary, a.output);
+  } else if (a.binary) {
+    throw Error("--binary needs an output file (-o mesh.msh)");
   }
   SurfaceOptions opt;
   opt.h = a.h;
@@ -64,6 +68,7 @@ int run(const MeshArgs& a) {
     v.output = a.output;
     v.json = a.json;
     v.binary = a.binary;
+    v.force = a.force;
     return run_volume_mesh(v);
   }
 
@@ -85,9 +90,12 @@ int run(const MeshArgs& a) {
                   c.self_intersects ? "self-intersecting" : "no self-intersection", c.volume);
     throw Error(msg);
   }
+  double enclosed = 0;
+  for (const auto& c : checks) enclosed += c.volume;
+  check_mesh_volume(enclosed, cad.volume(), a.h, a.force);
   if (!a.output.empty()) {
     t0 = Clock::now();
-    write_mesh(surface.mesh, a.output);
+    write_mesh(surface.mesh, a.output, MshWriteOptions{a.binary});
     rep.stage_seconds.emplace_back("write",
                                    std::chrono::duration<double>(Clock::now() - t0).count());
   }
@@ -169,7 +177,9 @@ RegisterCommand reg{
        sub.add_option("--dim", a->dim, "2 = surface mesh, 3 = volume mesh");
        sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)");
        sub.add_flag("--json", a->json, "print the report as JSON on stdout");
-       sub.add_flag("--force", a->force, "allow more than 50 M surface points");
+       sub.add_flag("--force", a->force,
+                    "allow more than 50 M surface points, and a mesh whose volume is more than "
+                    "10 % off the CAD volume");
        sub.add_option("--curvature", a->curvature,
                       "curvature bound: N elements per 2*pi (0 = off)");
        sub.add_option("--size-at", a->size_at, "size at a CAD vertex: vertex:ID=h");

@@ -13,12 +13,15 @@
 #include <string>
 #include <vector>
 
+#include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
+#include "app/modal_cli.hpp"
 #include "app/part_modal.hpp"
 #include "fem/boundary.hpp"
 #include "fem/material.hpp"
 #include "fem/modal_solver.hpp"
 #include "fem/mode_shapes_vtu.hpp"
+#include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 
@@ -27,15 +30,11 @@ namespace {
 
 struct Args {
   std::string mesh;
-  std::vector<std::string> fix;
+  ModalCliOptions modal;  // --fix --material --E --nu --rho --modes --hex8 --force
   bool free = false;
-  std::string material = "steel";
-  double E = NAN, nu = NAN, rho = NAN;
-  int modes = 10;
   std::string units = "SI";
   bool json = false;
   std::string modes_out;
-  std::string hex8 = "incompatible";
   // CAD input only: mesh size (mm) and where to write the mesh.
   double h = 0;
   std::string mesh_out;
@@ -82,46 +81,55 @@ std::vector<std::string> unit_warnings(const MixedMesh& mesh, const Units& units
   return w;
 }
 
-int run(const Args& a) {
-  const Units units = parse_units(a.units);
-  if (a.fix.empty() && !a.free)
+// Every check that needs no mesh, before any work: options, then input and output paths.
+ModalOptions check_arguments(const Args& a, bool cad_input) {
+  parse_units(a.units);
+  const auto& fix = a.modal.fix;
+  if (fix.empty() && !a.free)
     throw Error(
         "no boundary condition: give --fix (e.g. --fix face:1 or --fix \"x<0.001\") or "
         "--free for a free-free analysis");
-  if (!a.fix.empty() && a.free) throw Error("--free and --fix exclude each other");
-  Material mat = material_by_name(a.material);
-  if (!std::isnan(a.E) || !std::isnan(a.nu) || !std::isnan(a.rho)) mat.name += " (modified)";
-  if (!std::isnan(a.E)) mat.E = a.E;
-  if (!std::isnan(a.nu)) mat.nu = a.nu;
-  if (!std::isnan(a.rho)) mat.rho = a.rho;
-  validate(mat);
-  if (a.modes < 1) throw Error("--modes must be at least 1 (got " + std::to_string(a.modes) + ")");
+  if (!fix.empty() && a.free) throw Error("--free and --fix exclude each other");
+  ModalOptions opt = modal_options_from(a.modal);
+  check_input_file(a.mesh);
+  if (cad_input) {
+    check_finite("--h", a.h);
+    if (!(a.h > 0)) throw Error("a CAD input needs a mesh size: --h > 0 (mm)");
+  } else {
+    if (a.h != 0) throw Error("--h is for CAD input; '" + a.mesh + "' is already a mesh");
+    if (!a.mesh_out.empty())
+      throw Error("--mesh-out is for CAD input; '" + a.mesh + "' is already a mesh");
+  }
+  if (!a.mesh_out.empty())
+    check_output_file("--mesh-out", a.mesh_out, {"msh", "vtu", "inp"}, {a.mesh});
+  if (!a.modes_out.empty()) {
+    check_output_file("--modes-out", a.modes_out, {"vtu"}, {a.mesh});
+    if (!a.mesh_out.empty() && lower_extension(a.mesh_out) == "vtu")
+      check_output_file("--modes-out", a.modes_out, {"vtu"}, {a.mesh_out});
+  }
+  return opt;
+}
 
-  ModalOptions opt;
-  opt.material = mat;
-  opt.fix = a.fix;
-  opt.num_modes = a.modes;
+int run(const Args& a) {
+  const Units units = parse_units(a.units);
+  const bool cad_input = is_cad_file(a.mesh);
+  ModalOptions opt = check_arguments(a, cad_input);
   opt.length_scale = units.scale;
-  opt.incompatible_hex = incompatible_hex_from_option(a.hex8);
+  const Material& mat = opt.material;
 
   // A CAD part is meshed first (lengths in mm) and solved in the same process.
-  const bool cad_input = is_cad_file(a.mesh);
   MixedMesh mesh;
   ModalResult r;
   PartModalResult part;
   if (cad_input) {
-    if (!(a.h > 0)) throw Error("a CAD input needs a mesh size: --h > 0 (mm)");
-    if (a.units != "SI" && a.units != "mm") parse_units(a.units);
-    if (!std::filesystem::exists(a.mesh)) throw Error("file not found: '" + a.mesh + "'");
     const CadModel cad = CadModel::read(a.mesh);
     MeshOptions mesh_options;
     mesh_options.surface.h = a.h;
-    part = run_part_modal(cad, mesh_options, opt);
+    part = run_part_modal(cad, mesh_options, opt, a.modal.force);
     mesh = std::move(part.mesh);
     r = std::move(part.modal);
     if (!a.mesh_out.empty()) write_mesh(mesh, a.mesh_out);
   } else {
-    if (a.h > 0) throw Error("--h is for CAD input; '" + a.mesh + "' is already a mesh");
     mesh = read_mesh(a.mesh);
     r = solve_modal(mesh, opt);
   }
@@ -129,7 +137,7 @@ int run(const Args& a) {
   std::vector<std::string> warnings =
       cad_input ? part.mesh_report.warnings : unit_warnings(mesh, units);
   std::vector<std::size_t> fixed_nodes;
-  for (const std::string& spec : a.fix)
+  for (const std::string& spec : a.modal.fix)
     fixed_nodes.push_back(select_fixed_nodes(mesh, spec).nodes.size());
 
   // Rigid-body modes left although DOFs are fixed: legitimate for partial supports (NAFEMS
@@ -137,7 +145,7 @@ int run(const Args& a) {
   int rigid = 0;
   const double lam_max = r.eigenvalues.back();
   for (double lam : r.eigenvalues) rigid += std::abs(lam) < 1e-8 * std::abs(lam_max);
-  if (!a.fix.empty() && rigid > 0)
+  if (!a.modal.fix.empty() && rigid > 0)
     warnings.push_back(std::to_string(rigid) +
                        " rigid-body mode(s) left: the fixed DOFs do not hold the part in every "
                        "direction");
@@ -163,13 +171,13 @@ int run(const Args& a) {
       j["mesh"]["mesh_seconds"] = part.mesh_seconds;
       if (!a.mesh_out.empty()) j["mesh"]["written"] = a.mesh_out;
     }
-    j["hex8"] = a.hex8;
+    j["hex8"] = a.modal.hex8;
     j["units"] = {{"length", shown.name == "SI" ? "m" : "mm"},
                   {"scale_to_m", shown.scale},
                   {"material", "SI (Pa, kg/m^3)"},
                   {"frequency", "Hz"}};
     j["material"] = {{"name", mat.name}, {"E", mat.E}, {"nu", mat.nu}, {"rho", mat.rho}};
-    j["fix"] = a.fix;
+    j["fix"] = a.modal.fix;
     j["fixed_dofs"] = r.num_fixed_dofs;
     j["free_dofs"] = r.num_free_dofs;
     j["mass_kg"] = r.total_mass;
@@ -210,15 +218,17 @@ int run(const Args& a) {
         part.mesh_report.stats.q_mean, part.mesh_report.stats.nc_percent,
         part.mesh_report.stats.inverted, part.mesh_report.volume_error, part.mesh_seconds,
         a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
-  std::printf("elements  hex8 %s\n", a.hex8 == "full" ? "fully integrated 2x2x2 (= CalculiX C3D8)"
-                                                      : "with incompatible modes (C3D8I-like)");
+  std::printf("elements  hex8 %s\n", a.modal.hex8 == "full"
+                                         ? "fully integrated 2x2x2 (= CalculiX C3D8)"
+                                         : "with incompatible modes (C3D8I-like)");
   std::printf("units     lengths in %s (x %g -> m), material in SI, frequencies in Hz\n",
               shown.name == "SI" ? "m" : "mm", shown.scale);
   std::printf("material  %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", mat.name.c_str(), mat.E,
               mat.nu, mat.rho);
-  if (a.fix.empty()) std::printf("boundary  free-free (six rigid-body modes expected near 0 Hz)\n");
-  for (std::size_t i = 0; i < a.fix.size(); ++i)
-    std::printf("boundary  --fix %s: %zu nodes\n", a.fix[i].c_str(), fixed_nodes[i]);
+  if (a.modal.fix.empty())
+    std::printf("boundary  free-free (six rigid-body modes expected near 0 Hz)\n");
+  for (std::size_t i = 0; i < a.modal.fix.size(); ++i)
+    std::printf("boundary  --fix %s: %zu nodes\n", a.modal.fix[i].c_str(), fixed_nodes[i]);
   std::printf("model     %ld free DOFs, %ld fixed; mass %.6g kg, volume %.6g m^3\n",
               r.num_free_dofs, r.num_fixed_dofs, r.total_mass, r.volume);
   std::printf("solver    order %.2f s, assembly %.2f s, factorization %.2f s, Lanczos %.2f s\n\n",
@@ -249,19 +259,8 @@ RegisterCommand reg{
            ->required();
        sub.add_option("--h", a->h, "CAD input: target element size in mm");
        sub.add_option("--mesh-out", a->mesh_out, "CAD input: also write the mesh (.msh .vtu .inp)");
-       sub.add_option("--hex8", a->hex8,
-                      "hex formulation: incompatible (default, bending-accurate) or full "
-                      "(= CalculiX C3D8)");
-       sub.add_option("--fix", a->fix,
-                      "fixed DOFs, repeatable: face:3,7 | group:NAME | \"x<0.001\" | "
-                      "\"z<1e-3&x>9.99\"; append @xyz to fix only some components "
-                      "(coordinates in the mesh's units)");
+       add_modal_options(sub, a->modal);
        sub.add_flag("--free", a->free, "free-free analysis (no fixed DOF)");
-       sub.add_option("--material", a->material, "steel | aluminium | titanium (default steel)");
-       sub.add_option("--E", a->E, "Young's modulus [Pa], overrides the material's");
-       sub.add_option("--nu", a->nu, "Poisson's ratio, overrides the material's");
-       sub.add_option("--rho", a->rho, "density [kg/m^3], overrides the material's");
-       sub.add_option("--modes", a->modes, "number of modes (default 10)");
        sub.add_option("--units", a->units, "length unit of the mesh: SI (m, default) or mm");
        sub.add_flag("--json", a->json, "print JSON on stdout");
        sub.add_option("--modes-out", a->modes_out, "write mode shapes to this .vtu (ParaView)");

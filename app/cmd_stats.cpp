@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
@@ -17,6 +18,7 @@ RegisterCommand reg{{"stats", "Element counts, H_nbr, H_vol, Q, NC, validity and
                        sub.add_option("mesh", *path, "Mesh file (.msh)")->required();
                        sub.add_flag("--json", *json, "Print the measures as JSON");
                        return [path, json] {
+                         check_input_file(*path);
                          const MixedMesh mesh = read_mesh(*path);
                          if (mesh.num_cells() == 0)
                            throw Error("'" + *path + "' has no volume elements");

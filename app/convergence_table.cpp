@@ -71,9 +71,20 @@ std::vector<double> read_reference_json(const std::filesystem::path& path) {
   } catch (const std::exception&) {
     throw Error("reference '" + path.string() + "' is not valid JSON");
   }
-  if (!j.contains("reference_hz") || !j["reference_hz"].is_array())
+  if (!j.is_object() || !j.contains("reference_hz") || !j["reference_hz"].is_array())
     throw Error("reference '" + path.string() + "' has no \"reference_hz\" array");
-  return j["reference_hz"].get<std::vector<double>>();
+  std::vector<double> hz;
+  for (const nlohmann::json& f : j["reference_hz"]) {
+    // Checked here: nlohmann's own messages ("[json.exception.type_error.302] ...") mean
+    // nothing to a user.
+    if (!f.is_number() || !std::isfinite(f.get<double>()) || !(f.get<double>() > 0))
+      throw Error("reference '" + path.string() +
+                  "': \"reference_hz\" must hold positive "
+                  "numbers (found " +
+                  f.dump() + ")");
+    hz.push_back(f.get<double>());
+  }
+  return hz;
 }
 
 std::string convergence_text(const ConvergenceStudy& s) {

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include "app/command_registry.hpp"
 #include "mesher/mesh/error.hpp"
@@ -12,6 +13,15 @@ std::vector<CommandSpec>& command_registry() {
   static std::vector<CommandSpec> registry;
   return registry;
 }
+
+namespace {
+// One line on stderr whatever the message holds (CLI11 and library messages may span lines).
+void print_error(std::string message, const char* suffix = "") {
+  std::replace(message.begin(), message.end(), '\n', ' ');
+  while (!message.empty() && message.back() == ' ') message.pop_back();
+  std::fprintf(stderr, "hexfem: error: %s%s\n", message.c_str(), suffix);
+}
+}  // namespace
 }  // namespace hexfem
 
 int main(int argc, char** argv) {
@@ -33,19 +43,32 @@ int main(int argc, char** argv) {
     sub->callback([run, &action] { action = *run; });
   }
 
+  // CLI11 would call an unknown command "A subcommand is required": name it instead.
+  if (argc > 1 && argv[1][0] != '-' &&
+      std::none_of(registry.begin(), registry.end(),
+                   [&](const CommandSpec& c) { return c.name == argv[1]; })) {
+    std::string names;
+    for (const auto& spec : registry) names += (names.empty() ? "" : ", ") + spec.name;
+    print_error(std::string("unknown command '") + argv[1] + "' (commands: " + names + ")");
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version are "errors" with exit code 0: CLI11 prints them. Every real parse
+    // error is one line like any other bad input (the usage is for --help).
+    if (e.get_exit_code() == 0) return app.exit(e);
+    print_error(e.what(), " (see hexfem --help)");
+    return 2;
   }
   try {
     return action ? action() : 1;
-  } catch (const Error& e) {
-    std::fprintf(stderr, "hexfem: error: %s\n", e.what());
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "hexfem: error: out of memory\n");
+    print_error("out of memory");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "hexfem: error: %s\n", e.what());
+    print_error(e.what());
+  } catch (...) {
+    print_error("internal error: an unexpected exception (please report the input)");
   }
   return 1;
 }

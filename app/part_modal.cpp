@@ -3,8 +3,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
+#include "app/cli_checks.hpp"
 #include "fem/boundary.hpp"
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
@@ -19,37 +19,24 @@ bool is_cad_file(const std::filesystem::path& path) {
 }
 
 void check_fixed_faces_exist(const CadModel& cad, const std::vector<std::string>& fix) {
-  for (const std::string& spec : fix) {
-    if (spec.rfind("face:", 0) != 0) continue;
-    std::string ids = spec.substr(
-        5, spec.find('@') == std::string::npos ? std::string::npos : spec.find('@') - 5);
-    std::stringstream in(ids);
-    std::string item;
-    while (std::getline(in, item, ',')) {
-      int id = 0;
-      try {
-        std::size_t used = 0;
-        id = std::stoi(item, &used);
-        if (used != item.size()) throw std::invalid_argument(item);
-      } catch (const std::exception&) {
-        throw Error("--fix '" + spec + "': '" + item + "' is not a face id");
-      }
-      if (id < 1 || id > cad.num_faces())
+  for (const std::string& spec : fix)
+    for (int id : parse_fix_spec(spec).faces)
+      if (id > cad.num_faces())
         throw Error("--fix '" + spec + "': face " + std::to_string(id) +
                     " does not exist (the part has faces 1.." + std::to_string(cad.num_faces()) +
                     "; see hexfem info)");
-    }
-  }
 }
 
 PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_options,
-                               ModalOptions modal_options) {
+                               ModalOptions modal_options, bool force) {
   using Clock = std::chrono::steady_clock;
   check_fixed_faces_exist(cad, modal_options.fix);
   PartModalResult r;
   auto t0 = Clock::now();
   r.mesh = mesh_part(cad, mesh_options, &r.mesh_report);
   r.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  check_mesh_volume(r.mesh_report.mesh_volume, r.mesh_report.cad_volume, mesh_options.surface.h,
+                    force);
 
   if (!modal_options.fix.empty()) {
     // The user asked for a fixed analysis: a fixed set that lets the part move is their mistake

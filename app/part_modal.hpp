@@ -27,9 +27,10 @@ void check_fixed_faces_exist(const CadModel& cad, const std::vector<std::string>
 
 // Meshes the part (lengths in mm, so options.length_scale is set to 1e-3 m/mm) and solves.
 // With a non-empty fix list, a result with rigid-body modes left (the fixed set does not hold
-// the part) is an error, not a silently free analysis.
+// the part) is an error, not a silently free analysis; so is a mesh whose volume is more than
+// 10 % off the CAD's, unless `force`.
 PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_options,
-                               ModalOptions modal_options);
+                               ModalOptions modal_options, bool force = false);
 
 // The --hex8 option: "incompatible" (Wilson-Taylor bubbles, accurate in bending; the default)
 // -> true, "full" (2x2x2, = CalculiX C3D8) -> false; anything else is an error.

@@ -4,20 +4,16 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "mesher/mesh/atomic_file.hpp"
+#include "app/cli_checks.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 
 namespace hexfem {
 
 int run_volume_mesh(const VolumeMeshArgs& a) {
-  if (!a.output.empty()) {
-    const std::string ext = lower_extension(a.output);
-    if (ext != "msh" && ext != "vtu" && ext != "inp")
-      throw Error("-o '" + a.output + "': the output must end in .msh, .vtu or .inp");
-  }
   MeshReport report;
   const MixedMesh mesh = mesh_file(a.file, a.options, &report);
+  check_mesh_volume(report.mesh_volume, report.cad_volume, a.options.surface.h, a.force);
   double write_seconds = 0;
   if (!a.output.empty()) {
     const auto t0 = std::chrono::steady_clock::now();

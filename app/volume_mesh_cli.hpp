@@ -13,10 +13,12 @@ struct VolumeMeshArgs {
   std::string output;  // empty: no file written
   bool json = false;
   bool binary = false;  // MSH 4.1 binary
+  bool force = false;   // write a mesh whose volume is more than 10 % off the CAD's
 };
 
-// Meshes (mesh_part emits only valid meshes) and writes; prints the paper's table
-// row, the volume error and the time per stage (or JSON). Returns the exit code.
+// Meshes (mesh_part emits only valid meshes), refuses a volume far off the CAD's, and writes;
+// prints the paper's table row, the volume error and the time per stage (or JSON). Returns the exit
+// code.
 int run_volume_mesh(const VolumeMeshArgs& args);
 
 }  // namespace hexfem

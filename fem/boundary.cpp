@@ -45,11 +45,13 @@ bool parse_double(const std::string& s, double& v) {
   return used == s.size() && std::isfinite(v);
 }
 
-bool parse_int(const std::string& s, int& v) {
-  double d;
-  if (!parse_double(s, d) || d != static_cast<int>(d)) return false;
-  v = static_cast<int>(d);
-  return true;
+// A positive id written as an integer: "3" but not "3.0", "+3" or "3e0".
+bool parse_id(const std::string& s, int& v) {
+  if (s.empty() || s.size() > 9) return false;
+  for (char c : s)
+    if (!std::isdigit(static_cast<unsigned char>(c))) return false;
+  v = std::stoi(s);
+  return v > 0;
 }
 
 [[noreturn]] void bad(const std::string& spec, const std::string& why) {
@@ -94,43 +96,97 @@ std::string id_list(const std::set<int>& ids) {
 
 }  // namespace
 
-NodeSelection select_fixed_nodes(const MixedMesh& mesh, const std::string& spec_in) {
+FixSpec parse_fix_spec(const std::string& spec_in) {
   const std::string spec = trim(spec_in);
-  NodeSelection sel;
+  FixSpec out;
   std::string selector = spec;
   if (const auto at = spec.rfind('@'); at != std::string::npos) {
     selector = trim(spec.substr(0, at));
     const std::string comps = trim(spec.substr(at + 1));
     if (comps.empty()) bad(spec, "no component after '@' (use e.g. @z or @xy)");
-    for (int a = 0; a < 3; ++a) sel.component[a] = false;
+    for (int a = 0; a < 3; ++a) out.component[a] = false;
     for (char c : comps) {
       if (c < 'x' || c > 'z') bad(spec, std::string("unknown component '") + c + "' (x, y or z)");
-      sel.component[c - 'x'] = true;
+      out.component[c - 'x'] = true;
     }
   }
   if (selector.empty()) bad(spec, "empty selector");
-
-  std::vector<std::int32_t> nodes;
   if (selector.rfind("face:", 0) == 0) {
-    std::set<int> wanted;
     for (const std::string& tok : split(selector.substr(5), ',')) {
       int id;
-      if (!parse_int(tok, id)) bad(spec, "'" + tok + "' is not a CAD-face id");
-      wanted.insert(id);
+      if (!parse_id(tok, id)) bad(spec, "'" + tok + "' is not a CAD-face id (1, 2, ...)");
+      out.faces.push_back(id);
     }
+    return out;
+  }
+  if (selector.rfind("group:", 0) == 0) {
+    out.kind = FixSpec::Kind::Group;
+    out.group = trim(selector.substr(6));
+    if (out.group.empty()) bad(spec, "no group name or tag after 'group:'");
+    return out;
+  }
+  out.kind = FixSpec::Kind::Coordinates;
+  for (const std::string& c : split(selector, '&')) {
+    if (c.size() < 3 || c[0] < 'x' || c[0] > 'z')
+      bad(spec, "cannot parse '" + c + "' (expected face:IDS, group:NAME or e.g. x<0.001)");
+    FixSpec::Condition cond{c[0] - 'x', "", 0};
+    std::size_t p = 1;
+    while (p < c.size() && std::isspace(static_cast<unsigned char>(c[p]))) ++p;
+    while (p < c.size() && (c[p] == '<' || c[p] == '>' || c[p] == '=')) cond.op += c[p++];
+    if (cond.op != "<" && cond.op != "<=" && cond.op != ">" && cond.op != ">=")
+      bad(spec, "'" + c + "': operator must be <, <=, > or >=");
+    if (!parse_double(trim(c.substr(p)), cond.value))
+      bad(spec, "'" + c + "': '" + trim(c.substr(p)) + "' is not a number");
+    out.conditions.push_back(cond);
+  }
+  return out;
+}
+
+namespace {
+
+bool holds(const FixSpec::Condition& c, double x) {
+  return c.op == "<"    ? x < c.value
+         : c.op == "<=" ? x <= c.value
+         : c.op == ">"  ? x > c.value
+                        : x >= c.value;
+}
+
+std::string node_range(const MixedMesh& mesh, const std::vector<std::uint8_t>& used) {
+  std::ostringstream range;
+  for (int a = 0; a < 3; ++a) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t i = 0; i < mesh.nodes.size(); ++i)
+      if (used[i]) {
+        lo = std::min(lo, mesh.nodes[i][a]);
+        hi = std::max(hi, mesh.nodes[i][a]);
+      }
+    range << (a ? ", " : "") << char('x' + a) << " in [" << lo << ", " << hi << "]";
+  }
+  return range.str();
+}
+
+}  // namespace
+
+NodeSelection select_fixed_nodes(const MixedMesh& mesh, const std::string& spec_in) {
+  const std::string spec = trim(spec_in);
+  const FixSpec fs = parse_fix_spec(spec);
+  NodeSelection sel;
+  std::copy(fs.component, fs.component + 3, sel.component);
+  std::vector<std::int32_t> nodes;
+  if (fs.kind == FixSpec::Kind::Faces) {
+    const std::set<int> wanted(fs.faces.begin(), fs.faces.end());
     nodes = face_nodes(mesh, [&](std::size_t f) { return wanted.count(mesh.bface_cad_face[f]); });
     if (nodes.empty()) {
       const std::set<int> present(mesh.bface_cad_face.begin(), mesh.bface_cad_face.end());
       bad(spec,
           "no boundary face has this CAD-face id (ids in the mesh: " + id_list(present) + ")");
     }
-  } else if (selector.rfind("group:", 0) == 0) {
-    const std::string name = trim(selector.substr(6));
+  } else if (fs.kind == FixSpec::Kind::Group) {
     std::set<int> tags;
     int tag;
-    if (parse_int(name, tag)) tags.insert(tag);
+    if (parse_id(fs.group, tag)) tags.insert(tag);
     for (const auto& [key, value] : mesh.physical_names)
-      if (key.first == 2 && value == name) tags.insert(key.second);
+      if (key.first == 2 && value == fs.group) tags.insert(key.second);
     nodes = face_nodes(mesh, [&](std::size_t f) { return tags.count(mesh.bface_physical[f]); });
     if (nodes.empty()) {
       const std::set<int> present(mesh.bface_physical.begin(), mesh.bface_physical.end());
@@ -138,51 +194,13 @@ NodeSelection select_fixed_nodes(const MixedMesh& mesh, const std::string& spec_
                     id_list(present) + ")");
     }
   } else {
-    struct Condition {
-      int axis;
-      std::string op;
-      double value;
-    };
-    std::vector<Condition> conds;
-    for (const std::string& c : split(selector, '&')) {
-      if (c.size() < 3 || c[0] < 'x' || c[0] > 'z')
-        bad(spec, "cannot parse '" + c + "' (expected face:IDS, group:NAME or e.g. x<0.001)");
-      Condition cond{c[0] - 'x', "", 0};
-      std::size_t p = 1;
-      while (p < c.size() && std::isspace(static_cast<unsigned char>(c[p]))) ++p;
-      while (p < c.size() && (c[p] == '<' || c[p] == '>' || c[p] == '=')) cond.op += c[p++];
-      if (cond.op != "<" && cond.op != "<=" && cond.op != ">" && cond.op != ">=")
-        bad(spec, "'" + c + "': operator must be <, <=, > or >=");
-      if (!parse_double(trim(c.substr(p)), cond.value))
-        bad(spec, "'" + c + "': '" + trim(c.substr(p)) + "' is not a number");
-      conds.push_back(cond);
-    }
     const std::vector<std::uint8_t> used = used_nodes(mesh);
     for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
-      if (!used[i]) continue;
-      bool ok = true;
-      for (const Condition& c : conds) {
-        const double x = mesh.nodes[i][c.axis];
-        ok = ok && (c.op == "<"    ? x < c.value
-                    : c.op == "<=" ? x <= c.value
-                    : c.op == ">"  ? x > c.value
-                                   : x >= c.value);
-      }
+      bool ok = used[i];
+      for (const FixSpec::Condition& c : fs.conditions) ok = ok && holds(c, mesh.nodes[i][c.axis]);
       if (ok) nodes.push_back(static_cast<std::int32_t>(i));
     }
-    if (nodes.empty()) {
-      std::ostringstream range;
-      for (int a = 0; a < 3; ++a) {
-        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-        for (std::size_t i = 0; i < mesh.nodes.size(); ++i)
-          if (used[i]) {
-            lo = std::min(lo, mesh.nodes[i][a]);
-            hi = std::max(hi, mesh.nodes[i][a]);
-          }
-        range << (a ? ", " : "") << char('x' + a) << " in [" << lo << ", " << hi << "]";
-      }
-      bad(spec, "selects no node (mesh nodes: " + range.str() + ")");
-    }
+    if (nodes.empty()) bad(spec, "selects no node (mesh nodes: " + node_range(mesh, used) + ")");
   }
   std::sort(nodes.begin(), nodes.end());
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());

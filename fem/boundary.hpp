@@ -25,6 +25,24 @@ struct NodeSelection {
 };
 NodeSelection select_fixed_nodes(const MixedMesh& mesh, const std::string& spec);
 
+// A --fix spec parsed without a mesh: the one parser of the syntax above, used by the solver
+// and by the CLI (which checks CAD-face ids before meshing). A face id is a positive integer
+// written as one ("face:3.0" is refused). Throws hexfem::Error naming the spec.
+struct FixSpec {
+  enum class Kind { Faces, Group, Coordinates };
+  struct Condition {
+    int axis;        // 0, 1, 2 for x, y, z
+    std::string op;  // <, <=, > or >=
+    double value;
+  };
+  Kind kind = Kind::Faces;
+  std::vector<int> faces;             // Faces
+  std::string group;                  // Group: a name, or a tag when all digits
+  std::vector<Condition> conditions;  // Coordinates: all must hold
+  bool component[3] = {true, true, true};
+};
+FixSpec parse_fix_spec(const std::string& spec);
+
 // Per-DOF mask (3*i+a for node i, component a) of the union of all specs. Throws
 // hexfem::Error when a spec cannot be parsed or selects no node.
 std::vector<std::uint8_t> select_fixed_dofs(const MixedMesh& mesh,

@@ -237,8 +237,9 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
   const DofMap dofs = number_free_dofs(mesh, fixed, order);
   if (dofs.num_free == 0) throw Error("every DOF is fixed: nothing to analyse");
   if (options.num_modes >= dofs.num_free)
-    throw Error("requested " + std::to_string(options.num_modes) +
-                " modes but the model has only " + std::to_string(dofs.num_free) + " free DOFs");
+    throw Error("requested " + std::to_string(options.num_modes) + " modes but the model has " +
+                std::to_string(dofs.num_free) + " free DOFs (at most " +
+                std::to_string(dofs.num_free - 1) + " modes)");
   const SystemMatrices sys =
       assemble_system(mesh, options.material, dofs, options.length_scale, options.incompatible_hex);
 

@@ -1,6 +1,7 @@
 // Gmsh MSH reader: 4.1 ASCII and binary, 2.2 ASCII. Only first-order elements.
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -261,6 +262,7 @@ struct Reader {
       for (std::uint64_t i = 0; i < n; ++i) {
         Vec3 x;
         for (double& c : x) c = binary ? in.binary<double>() : in.real("node coordinate");
+        check_finite(x, tags[i]);
         for (int k = 0; k < extra; ++k)
           binary ? in.binary<double>() : in.real("parametric coordinate");
         if (!node_index.emplace(tags[i], static_cast<std::int32_t>(mesh.nodes.size())).second)
@@ -307,6 +309,13 @@ struct Reader {
     in.expect("$EndElements");
   }
 
+  // NaN and inf parse as numbers; a node there has no place in a mesh (issue 14 item 6).
+  void check_finite(const Vec3& x, long tag) {
+    for (double c : x)
+      if (!std::isfinite(c))
+        in.fail("node " + std::to_string(tag) + " has a coordinate that is not a finite number");
+  }
+
   void nodes22() {
     const long n = in.integer("number of nodes");
     if (n < 0) in.fail("negative node count");
@@ -314,6 +323,7 @@ struct Reader {
       const long tag = in.integer("node tag");
       Vec3 x;
       for (double& c : x) c = in.real("node coordinate");
+      check_finite(x, tag);
       if (!node_index.emplace(tag, static_cast<std::int32_t>(mesh.nodes.size())).second)
         in.fail("duplicate node tag " + std::to_string(tag));
       mesh.nodes.push_back(x);

@@ -63,6 +63,27 @@ TEST(Boundary, EmptyOrBadSelectionIsAnError) {
   }
 }
 
+// One parser for the solver and the CLI (issue 17): it needs no mesh, and a face id is an
+// integer written as one. Before, the solver read "face:3.0" as face 3 and the CLI refused it.
+TEST(Boundary, OneParserWithoutAMesh) {
+  const FixSpec f = parse_fix_spec(" face:3, 7 @xz ");
+  EXPECT_EQ(f.kind, FixSpec::Kind::Faces);
+  EXPECT_EQ(f.faces, (std::vector<int>{3, 7}));
+  EXPECT_TRUE(f.component[0] && !f.component[1] && f.component[2]);
+  const FixSpec c = parse_fix_spec("x<=1e-3&z>2");
+  ASSERT_EQ(c.kind, FixSpec::Kind::Coordinates);
+  ASSERT_EQ(c.conditions.size(), 2u);
+  EXPECT_EQ(c.conditions[1].axis, 2);
+  EXPECT_EQ(c.conditions[0].op, "<=");
+  EXPECT_EQ(c.conditions[0].value, 1e-3);
+  EXPECT_EQ(parse_fix_spec("group:clamp").group, "clamp");
+  for (const char* spec : {"face:3.0", "face:+3", "face:0", "face:-1", "face:3e0",
+                           "face:", "group:", "x<nan", "x<inf", "face:99999999999"})
+    EXPECT_THROW(parse_fix_spec(spec), Error) << spec;
+  const MixedMesh m = beam();
+  EXPECT_THROW(select_fixed_nodes(m, "face:1.0"), Error);
+}
+
 TEST(Boundary, CountsTheRigidMotionsAFixedSetDoesNotHold) {
   // Counted by hand: what can still move rigidly when these DOFs are held.
   const MixedMesh m = beam();

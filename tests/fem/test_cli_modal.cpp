@@ -2,6 +2,7 @@
 // a clear error with a non-zero exit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -109,10 +110,12 @@ TEST(ModalCli, ModeShapesVtu) {
   EXPECT_EQ(py.out, "(189, 3) (189, 3) (189, 3) 1.0 3\n");
 }
 
+// Exit 1 or 2 (not a signal) and exactly one line: "hexfem: error: ..." containing `message`.
 void expect_error(const std::string& args, const std::string& message) {
   const CliRun r = hexfem("modal " + args);
-  EXPECT_NE(r.code, 0) << args << "\n" << r.out;
-  EXPECT_NE(r.out.find("hexfem: error:"), std::string::npos) << args << "\n" << r.out;
+  EXPECT_TRUE(r.code == 1 || r.code == 2) << args << "\n" << r.out;
+  EXPECT_EQ(r.out.rfind("hexfem: error: ", 0), 0u) << args << "\n" << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << "\n" << r.out;
   EXPECT_NE(r.out.find(message), std::string::npos) << args << "\n" << r.out;
 }
 
@@ -124,6 +127,7 @@ TEST(ModalCli, BadInputIsAClearError) {
   expect_error(b + "--fix face:1 --nu 0.5", "Poisson's ratio nu must be in (-1, 0.5)");
   expect_error(b + "--fix face:1 --nu 0.7", "Poisson's ratio nu must be in (-1, 0.5)");
   expect_error(b + "--fix face:9", "no boundary face has this CAD-face id");
+  expect_error(b + "--fix face:1.0", "is not a CAD-face id");  // the CLI's rule (issue 17)
   expect_error(b + "--fix \"x<-5\"", "selects no node");
   expect_error(b, "no boundary condition");
   expect_error(b + "--fix face:1 --modes 100000", "free DOFs");
@@ -133,6 +137,46 @@ TEST(ModalCli, BadInputIsAClearError) {
   expect_error(work("missing.msh").string() + " --fix face:1", "missing.msh");
   // every DOF fixed
   expect_error(b + "--fix \"x>-1\"", "every DOF is fixed");
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::vector<std::string> listing(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Issue 14 items 4, 6, 7 and 9: refused before any work, in one line, the input intact and no
+// file written.
+TEST(ModalCli, BadOutputsAndNumbersAreRefusedUpFront) {
+  const fs::path dir = work("up_front");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path input = dir / "m.msh";
+  fs::copy_file(beam_msh(), input);
+  const std::string before = slurp(input);
+  const std::string b = input.string() + " --units mm --fix face:1 ";
+  expect_error(b + "--modes-out " + input.string(), "is an input of this command");
+  expect_error(b + "--modes-out " + (dir / "x.msh").string(), "must end in .vtu");
+  expect_error(b + "--modes-out " + (dir / "nope" / "x.vtu").string(), "does not exist");
+  expect_error(b + "--modes-out " + dir.string() + "/", "must end in .vtu");
+  expect_error(b + "--mesh-out " + (dir / "x.msh").string(), "--mesh-out is for CAD input");
+  expect_error(b + "--E nan", "--E must be a finite number");
+  expect_error(b + "--nu nan", "--nu must be a finite number");
+  expect_error(b + "--rho inf", "--rho must be a finite number");
+  expect_error(b + "--modes 10000", "(at most 539 modes)");
+  expect_error(dir.string() + " --fix face:1", "is a directory");
+  EXPECT_EQ(slurp(input), before);
+  EXPECT_EQ(listing(dir), std::vector<std::string>{"m.msh"});
+  // The extension is compared in any case.
+  const CliRun r = hexfem("modal " + b + "--modes 2 --modes-out " + (dir / "SHAPES.VTU").string());
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "SHAPES.VTU"));
 }
 
 TEST(ModalCli, InvertedElementIsAnError) {

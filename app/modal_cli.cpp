@@ -1,0 +1,47 @@
+#include "app/modal_cli.hpp"
+
+#include "app/cli_checks.hpp"
+#include "app/part_modal.hpp"
+#include "fem/boundary.hpp"
+#include "fem/material.hpp"
+#include "mesher/mesh/error.hpp"
+
+namespace hexfem {
+
+void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
+  sub.add_option("--fix", o.fix,
+                 "fixed DOFs, repeatable: face:3,7 | group:NAME | \"x<0.001\" | "
+                 "\"z<1e-3&x>9.99\"; append @xyz to fix only some components (coordinates in "
+                 "the mesh's units)");
+  sub.add_option("--material", o.material, "steel | aluminium | titanium (default steel)");
+  o.E_given = sub.add_option("--E", o.E, "Young's modulus [Pa], overrides the material's");
+  o.nu_given = sub.add_option("--nu", o.nu, "Poisson's ratio, overrides the material's");
+  o.rho_given = sub.add_option("--rho", o.rho, "density [kg/m^3], overrides the material's");
+  sub.add_option("--modes", o.modes, "number of modes (default " + std::to_string(o.modes) + ")");
+  sub.add_option("--hex8", o.hex8,
+                 "hex formulation: incompatible (default, bending-accurate) or full "
+                 "(= CalculiX C3D8)");
+  sub.add_flag("--force", o.force,
+               "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
+}
+
+ModalOptions modal_options_from(const ModalCliOptions& o) {
+  Material mat = material_by_name(o.material);
+  const bool E = o.E_given && o.E_given->count(), nu = o.nu_given && o.nu_given->count(),
+             rho = o.rho_given && o.rho_given->count();
+  if (E || nu || rho) mat.name += " (modified)";
+  if (E) check_finite("--E", mat.E = o.E);
+  if (nu) check_finite("--nu", mat.nu = o.nu);
+  if (rho) check_finite("--rho", mat.rho = o.rho);
+  validate(mat);
+  if (o.modes < 1) throw Error("--modes must be at least 1 (got " + std::to_string(o.modes) + ")");
+  for (const std::string& spec : o.fix) parse_fix_spec(spec);
+  ModalOptions opt;
+  opt.material = mat;
+  opt.fix = o.fix;
+  opt.num_modes = o.modes;
+  opt.incompatible_hex = incompatible_hex_from_option(o.hex8);
+  return opt;
+}
+
+}  // namespace hexfem

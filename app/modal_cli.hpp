@@ -1,0 +1,30 @@
+// The modal options shared by `hexfem modal` and `hexfem converge`, declared and validated once.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "fem/modal_solver.hpp"
+
+namespace hexfem {
+
+struct ModalCliOptions {
+  std::vector<std::string> fix;
+  std::string material = "steel";
+  double E = 0, nu = 0, rho = 0;  // used only when given (see the options below)
+  int modes = 10;
+  std::string hex8 = "incompatible";
+  bool force = false;  // CAD input: accept a mesh whose volume is far off the CAD's
+  CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;
+};
+
+// Declares --fix --material --E --nu --rho --modes --hex8 --force on `sub`; `o.modes` holds the
+// default number of modes.
+void add_modal_options(CLI::App& sub, ModalCliOptions& o);
+
+// Checks every value (material and its overrides finite and physical, --modes >= 1, --hex8, the
+// syntax of each --fix) and returns the solver's options (length_scale left at 1).
+ModalOptions modal_options_from(const ModalCliOptions& o);
+
+}  // namespace hexfem
