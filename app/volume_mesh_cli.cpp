@@ -7,6 +7,7 @@
 #include "app/cli_checks.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
+#include "mesher/mesh_reports.hpp"
 
 namespace hexfem {
 
@@ -21,7 +22,7 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
     write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   if (a.json) {
-    nlohmann::json j = mesh_report_json(report);
+    nlohmann::json j = report;
     j["file"] = a.file;
     j["h"] = a.options.surface.h;
     if (!a.output.empty()) {

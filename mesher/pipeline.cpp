@@ -83,45 +83,4 @@ MixedMesh mesh_file(const std::filesystem::path& path, const MeshOptions& option
   return mesh_part(cad, options, &r);
 }
 
-nlohmann::json mesh_report_json(const MeshReport& r) {
-  nlohmann::json j = volume_report_json(r.volume);
-  j["file_unit"] = r.file_unit;
-  j["length_unit"] = "mm";
-  j["cad_volume"] = r.cad_volume;
-  j["mesh_volume"] = r.mesh_volume;
-  j["volume_error"] = r.volume_error;
-  j["warnings"] = r.warnings;
-  j["surface_points"] = r.surface.points;
-  j["surface_triangles"] = r.surface.triangles;
-  nlohmann::json stages = nlohmann::json::array();
-  stages.push_back({{"name", "cad read"}, {"seconds", r.cad_seconds}});
-  for (const auto& [name, s] : r.surface.stage_seconds)
-    stages.push_back({{"name", "surface: " + name}, {"seconds", s}});
-  for (const auto& s : r.volume.stages)
-    stages.push_back({{"name", "volume: " + s.name}, {"seconds", s.seconds}});
-  j["pipeline_stages"] = stages;
-  j["total_seconds"] = r.total_seconds;
-  j["vertices_per_second"] = r.total_seconds > 0 ? r.volume.vertices / r.total_seconds : 0.0;
-  return j;
-}
-
-std::string mesh_report_text(const MeshReport& r) {
-  std::string out = volume_report_text(r.volume);
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "volume error     %+.3e relative to the CAD volume %.6g mm^3 (file unit %s)\n"
-                "surface          %zu points, %zu triangles\n"
-                "time             %.3f s total (cad read %.3f s, surface",
-                r.volume_error, r.cad_volume, r.file_unit.c_str(), r.surface.points,
-                r.surface.triangles, r.total_seconds, r.cad_seconds);
-  out += buf;
-  double surface_total = 0;
-  for (const auto& [name, s] : r.surface.stage_seconds) surface_total += s;
-  std::snprintf(buf, sizeof buf, " %.3f s, volume %.3f s), %.0f vertices/s\n", surface_total,
-                r.volume.total_seconds,
-                r.total_seconds > 0 ? r.volume.vertices / r.total_seconds : 0.0);
-  out += buf;
-  return out;
-}
-
 }  // namespace hexfem

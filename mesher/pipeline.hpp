@@ -2,7 +2,6 @@
 // parallelograms, triangulation) -> volume (3D frontal points, TetGen, hexes, prisms, pyramids).
 #pragma once
 
-#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -40,10 +39,5 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
 // Reads the CAD file and meshes it.
 MixedMesh mesh_file(const std::filesystem::path& path, const MeshOptions& options,
                     MeshReport* report = nullptr);
-
-nlohmann::json mesh_report_json(const MeshReport& r);
-// The paper's table row (vertices, elements per kind, H_nbr, H_vol, Q, NC, inverted), the
-// volume error and the time per stage, one quantity per line.
-std::string mesh_report_text(const MeshReport& r);
 
 }  // namespace hexfem

@@ -169,26 +169,57 @@ bool pyramid_possible(const TetTopology& topo, const Candidate& c, int f,
 // between them, the pyramid on one face leaves the other NC). Kept, best gain first then best
 // quality, when it lowers the NC count: +1 for each NC face of an element it matches, -1 for
 // each of its own quad faces left facing tets and for each pyramid it takes whose base it does
-// not match. Returns how many were made; r.undone counts the pyramids taken.
-// The elements (gone ones skipped) and what lies across their quad faces are kept up to date;
-// `around` receives the new prisms and the elements they match (whose faces may now hold a
-// sliver to absorb).
-std::size_t prisms_in_gaps(const TetTopology& topo, std::vector<Candidate>& elements,
-                           std::vector<Across>& across, std::vector<char>& gone,
-                           std::vector<char>& used, const PrismOptions& options, double min_pyramid,
-                           NcRepair& r, std::vector<Candidate>& around) {
-  std::vector<char> soft = used;  // pyramid tets count as free
-  std::vector<std::int32_t> pyramid_of(used.size(), -1);
-  ConformityIndex index;
-  std::vector<std::pair<QuadKey, std::int32_t>> owner;  // quad faces of hexes and prisms
+// not match. The elements (gone ones skipped) and what lies across their quad faces are kept up
+// to date.
+class GapPrisms {
+ public:
+  GapPrisms(RecombineState& s, std::vector<Across>& across, std::vector<char>& gone);
+  // Places the prisms; r.undone counts the pyramids taken. `around` receives the new prisms and
+  // the elements they match (whose faces may now hold a sliver to absorb). Returns how many.
+  std::size_t run(NcRepair& r, std::vector<Candidate>& around);
+
+ private:
+  struct Scored {
+    int gain;
+    std::size_t cand;
+    bool operator<(const Scored& o) const { return gain != o.gain ? gain > o.gain : cand < o.cand; }
+  };
+  // Owner (6 * element + face) of the quad face with sorted corners k, or -1.
+  std::int32_t owner_of(const QuadKey& k) const;
+  QuadKey corners(std::int32_t o) const { return quad_corners(s_.elements[o / 6], o % 6); }
+  // Prisms with two owned faces, one of them NC, meeting at an edge (u, v) (the wedge of tets
+  // between two elements); their lateral edge u-v is the prism's edge 0-3. Sorted, unique.
+  std::vector<Candidate> candidates() const;
+  // The NC count's drop if c is placed now (0 or less: not worth it); fills c.tets and taken_.
+  int score(Candidate& c);
+  // Puts the elements near a kept candidate into the conformity index (a conflict needs two
+  // shared vertices).
+  void index_elements_near(const std::vector<Candidate>& cands, const std::vector<Scored>& order);
+  // Places c (scored just before, so taken_ holds its pyramids); returns its element index.
+  std::int32_t place(const Candidate& c, NcRepair& r);
+
+  RecombineState& s_;
+  std::vector<Across>& across_;
+  std::vector<char>& gone_;
+  std::vector<char> soft_;                // used, but pyramid tets count as free
+  std::vector<std::int32_t> pyramid_of_;  // tet -> the two-tet pyramid holding it, or -1
+  std::vector<std::pair<QuadKey, std::int32_t>> owner_;  // hex/prism faces facing tets or a pyramid
+  std::vector<std::pair<QuadKey, std::int32_t>> added_;  // quad faces of the new prisms, sorted
+  std::vector<std::int32_t> taken_;                      // pyramids the scored candidate takes
+  ConformityIndex index_;
+};
+
+GapPrisms::GapPrisms(RecombineState& s, std::vector<Across>& across, std::vector<char>& gone)
+    : s_(s), across_(across), gone_(gone), soft_(s.used), pyramid_of_(s.used.size(), -1) {
+  const std::vector<Candidate>& elements = s.elements;
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const Candidate& e = elements[i];
     if (gone[i]) continue;
     if (e.kind == CellKind::Pyramid5) {
       if (e.tets[2] >= 0) continue;  // it holds a sliver: left alone
       for (int k = 0; k < 2; ++k) {
-        soft[e.tets[k]] = 0;
-        pyramid_of[e.tets[k]] = static_cast<std::int32_t>(i);
+        soft_[e.tets[k]] = 0;
+        pyramid_of_[e.tets[k]] = static_cast<std::int32_t>(i);
       }
       continue;
     }
@@ -198,31 +229,31 @@ std::size_t prisms_in_gaps(const TetTopology& topo, std::vector<Candidate>& elem
     for (int f = 0; f < cf.count; ++f) {
       const std::int32_t o = cf.face[f].n == 4 ? across[6 * i + f].element : kSurface;
       if (o == kTets || (o >= 0 && elements[o].kind == CellKind::Pyramid5))
-        owner.push_back({quad_key(e, f), static_cast<std::int32_t>(6 * i + f)});
+        owner_.push_back({quad_key(e, f), static_cast<std::int32_t>(6 * i + f)});
     }
   }
-  std::sort(owner.begin(), owner.end());
-  std::vector<std::pair<QuadKey, std::int32_t>> added;  // quad faces of the new prisms, sorted
-  auto owner_of = [&](const QuadKey& k) {
-    for (const auto* v : {&owner, &added}) {
-      auto it = std::lower_bound(v->begin(), v->end(), std::make_pair(k, -1));
-      if (it != v->end() && it->first == k) return it->second;
-    }
-    return -1;
-  };
-  // Candidates: prisms with two of these faces, one of them NC, meeting at an edge (u, v) (the
-  // wedge of tets between two elements); their lateral edge u-v is the prism's edge 0-3.
-  auto corners = [&](std::int32_t o) { return quad_corners(elements[o / 6], o % 6); };
+  std::sort(owner_.begin(), owner_.end());
+}
+
+std::int32_t GapPrisms::owner_of(const QuadKey& k) const {
+  for (const auto* v : {&owner_, &added_}) {
+    auto it = std::lower_bound(v->begin(), v->end(), std::make_pair(k, -1));
+    if (it != v->end() && it->first == k) return it->second;
+  }
+  return -1;
+}
+
+std::vector<Candidate> GapPrisms::candidates() const {
   std::vector<std::pair<std::uint64_t, std::int32_t>> by_edge;  // (edge, owner face)
-  for (const auto& [key, o] : owner) {
+  for (const auto& [key, o] : owner_) {
     const QuadKey q = corners(o);
     for (int k = 0; k < 4; ++k) by_edge.push_back({edge_key(q[k], q[(k + 1) % 4]), o});
   }
   std::sort(by_edge.begin(), by_edge.end());
   std::vector<Candidate> cands;
-  const auto& X = topo.mesh().nodes;
-  for (const auto& [key, o] : owner) {
-    if (across[o].element != kTets) continue;
+  const auto& X = s_.topo.mesh().nodes;
+  for (const auto& [key, o] : owner_) {
+    if (across_[o].element != kTets) continue;
     const QuadKey q = corners(o);
     for (int k = 0; k < 4; ++k) {
       std::int32_t u = q[k], v = q[(k + 1) % 4], x = q[(k + 3) % 4], y = q[(k + 2) % 4];
@@ -250,7 +281,7 @@ std::size_t prisms_in_gaps(const TetTopology& topo, std::vector<Candidate>& elem
           Vec3 w[6];
           for (int i = 0; i < 6; ++i) w[i] = X[c.nodes[i]];
           const double qual = min_scaled_jacobian(CellKind::Wedge6, w);
-          if (!(qual > 0 && qual >= options.min_quality)) continue;
+          if (!(qual > 0 && qual >= s_.limits.min_quality)) continue;
           c.quality = static_cast<float>(qual);
           cands.push_back(c);
         }
@@ -262,116 +293,125 @@ std::size_t prisms_in_gaps(const TetTopology& topo, std::vector<Candidate>& elem
       std::unique(cands.begin(), cands.end(),
                   [](const Candidate& a, const Candidate& b) { return a.nodes == b.nodes; }),
       cands.end());
-  struct Scored {
-    int gain;
-    std::size_t cand;
-    bool operator<(const Scored& o) const { return gain != o.gain ? gain > o.gain : cand < o.cand; }
-  };
-  // Scores each fillable candidate against the current elements; 0 or less: not worth it.
-  std::vector<std::int32_t> taken;  // pyramids the candidate takes
-  auto score = [&](Candidate& c) {
-    bool matches_nc = false;  // cheap test first: most candidates match no NC face
-    const CellFaces qf = faces_of(c.kind);
-    for (int f = 0; f < qf.count && !matches_nc; ++f) {
-      if (qf.face[f].n != 4) continue;
-      const std::int32_t o = owner_of(quad_key(c, f));
-      matches_nc = o >= 0 && across[o].element == kTets;
-    }
-    if (!matches_nc) return 0;
-    c.tets.fill(-1);
-    if (!fills_element(topo, c, &soft, options.fill)) return 0;
-    taken.clear();
-    for (std::int32_t t : c.tets)
-      if (t >= 0 && pyramid_of[t] >= 0 &&
-          std::find(taken.begin(), taken.end(), pyramid_of[t]) == taken.end())
-        taken.push_back(pyramid_of[t]);
-    for (std::int32_t y : taken)  // both of its tets, or none
-      for (int k = 0; k < 2; ++k)
-        if (std::find(c.tets.begin(), c.tets.end(), elements[y].tets[k]) == c.tets.end()) return 0;
-    int gain = 0, base_matched = 0;
-    const CellFaces cf = faces_of(c.kind);
-    for (int f = 0; f < cf.count; ++f) {
-      if (cf.face[f].n != 4) continue;
-      const QuadKey k = quad_key(c, f);
-      const std::int32_t o = owner_of(k);
-      if (o >= 0) {
-        const Across a = across[o];
-        if (a.element == kTets) {
-          ++gain;
-        } else if (a.element < 0 || elements[a.element].kind != CellKind::Pyramid5 ||
-                   std::find(taken.begin(), taken.end(), a.element) == taken.end()) {
-          return 0;  // matched by something it does not replace
-        } else {
-          ++base_matched;  // it replaces the pyramid there
-        }
-      } else if (!quad_on_surface(topo, c, f) && !pyramid_possible(topo, c, f, used, min_pyramid)) {
-        --gain;
+  return cands;
+}
+
+int GapPrisms::score(Candidate& c) {
+  const std::vector<Candidate>& elements = s_.elements;
+  bool matches_nc = false;  // cheap test first: most candidates match no NC face
+  const CellFaces cf = faces_of(c.kind);
+  for (int f = 0; f < cf.count && !matches_nc; ++f) {
+    if (cf.face[f].n != 4) continue;
+    const std::int32_t o = owner_of(quad_key(c, f));
+    matches_nc = o >= 0 && across_[o].element == kTets;
+  }
+  if (!matches_nc) return 0;
+  c.tets.fill(-1);
+  if (!fills_element(s_.topo, c, &soft_, s_.limits.fill)) return 0;
+  taken_.clear();
+  for (std::int32_t t : c.tets)
+    if (t >= 0 && pyramid_of_[t] >= 0 &&
+        std::find(taken_.begin(), taken_.end(), pyramid_of_[t]) == taken_.end())
+      taken_.push_back(pyramid_of_[t]);
+  for (std::int32_t y : taken_)  // both of its tets, or none
+    for (int k = 0; k < 2; ++k)
+      if (std::find(c.tets.begin(), c.tets.end(), elements[y].tets[k]) == c.tets.end()) return 0;
+  int gain = 0, base_matched = 0;
+  for (int f = 0; f < cf.count; ++f) {
+    if (cf.face[f].n != 4) continue;
+    const std::int32_t o = owner_of(quad_key(c, f));
+    if (o >= 0) {
+      const Across a = across_[o];
+      if (a.element == kTets) {
+        ++gain;
+      } else if (a.element < 0 || elements[a.element].kind != CellKind::Pyramid5 ||
+                 std::find(taken_.begin(), taken_.end(), a.element) == taken_.end()) {
+        return 0;  // matched by something it does not replace
+      } else {
+        ++base_matched;  // it replaces the pyramid there
       }
+    } else if (!quad_on_surface(s_.topo, c, f) &&
+               !pyramid_possible(s_.topo, c, f, s_.used, s_.limits.min_pyramid_quality)) {
+      --gain;
     }
-    gain -= static_cast<int>(taken.size()) - base_matched;
-    return gain;
-  };
+  }
+  return gain - (static_cast<int>(taken_.size()) - base_matched);
+}
+
+void GapPrisms::index_elements_near(const std::vector<Candidate>& cands,
+                                    const std::vector<Scored>& order) {
+  std::vector<char> near(s_.topo.num_vertices(), 0);
+  for (const Scored& o : order)
+    for (int k = 0; k < 6; ++k) near[cands[o.cand].nodes[k]] = 1;
+  for (std::size_t i = 0; i < s_.elements.size(); ++i) {
+    const Candidate& e = s_.elements[i];
+    if (gone_[i] || e.kind == CellKind::Pyramid5) continue;
+    bool is_near = false;
+    for (int k = 0; k < num_nodes(e.kind) && !is_near; ++k) is_near = near[e.nodes[k]];
+    if (is_near) index_.add(e);
+  }
+}
+
+std::int32_t GapPrisms::place(const Candidate& c, NcRepair& r) {
+  for (std::int32_t y : taken_) {
+    gone_[y] = 1;
+    s_.release(y);  // its tets go to the prism
+    ++r.undone[static_cast<int>(CellKind::Pyramid5)];
+    const Across a = across_[6 * y];  // the face the pyramid rested on: now facing tets
+    if (a.element >= 0) across_[6 * a.element + a.face] = Across{};
+  }
+  const auto ci = static_cast<std::int32_t>(s_.elements.size());
+  s_.place(c);
+  gone_.push_back(0);
+  across_.resize(6 * s_.elements.size());
+  const CellFaces cf = faces_of(c.kind);
+  for (int f = 0; f < cf.count; ++f) {
+    if (cf.face[f].n != 4) continue;
+    const QuadKey k = quad_key(c, f);
+    const std::int32_t o = owner_of(k);
+    if (o >= 0) {
+      across_[o] = {ci, static_cast<std::int8_t>(f)};
+      across_[6 * ci + f] = {o / 6, static_cast<std::int8_t>(o % 6)};
+    } else if (quad_on_surface(s_.topo, c, f)) {
+      across_[6 * ci + f].element = kSurface;
+    }
+    added_.insert(std::lower_bound(added_.begin(), added_.end(), std::make_pair(k, -1)),
+                  {k, 6 * ci + f});
+  }
+  for (std::int32_t t : c.tets)
+    if (t >= 0) {
+      soft_[t] = 1;
+      pyramid_of_[t] = -1;
+    }
+  index_.add(c);
+  return ci;
+}
+
+std::size_t GapPrisms::run(NcRepair& r, std::vector<Candidate>& around) {
+  std::vector<Candidate> cands = candidates();
   std::vector<Scored> order;
   for (std::size_t i = 0; i < cands.size(); ++i) {
     const int g = score(cands[i]);
     if (g > 0) order.push_back({g, i});
   }
   std::stable_sort(order.begin(), order.end());
-  // A conflict needs two shared vertices: only the elements at a corner of a candidate kept
-  // for placing go into the conformity index.
-  std::vector<char> near(topo.num_vertices(), 0);
-  for (const Scored& o : order)
-    for (int k = 0; k < 6; ++k) near[cands[o.cand].nodes[k]] = 1;
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    const Candidate& e = elements[i];
-    if (gone[i] || e.kind == CellKind::Pyramid5) continue;
-    bool is_near = false;
-    for (int k = 0; k < num_nodes(e.kind) && !is_near; ++k) is_near = near[e.nodes[k]];
-    if (is_near) index.add(e);
-  }
+  index_elements_near(cands, order);
   std::size_t made = 0;
   std::vector<std::int32_t> fresh;  // new prisms and the elements they match
-  for (const Scored& s : order) {
-    Candidate c = cands[s.cand];
-    if (score(c) < s.gain || index.conflicts(c)) continue;  // its neighbourhood changed
-    for (std::int32_t y : taken) {
-      gone[y] = 1;
-      ++r.undone[static_cast<int>(CellKind::Pyramid5)];
-      const Across a = across[6 * y];  // the face the pyramid rested on: now facing tets
-      if (a.element >= 0) across[6 * a.element + a.face] = Across{};
-    }
-    const auto ci = static_cast<std::int32_t>(elements.size());
-    elements.push_back(c);
-    gone.push_back(0);
-    across.resize(6 * elements.size());
-    const CellFaces cf = faces_of(c.kind);
-    for (int f = 0; f < cf.count; ++f) {
-      if (cf.face[f].n != 4) continue;
-      const std::int32_t o = owner_of(quad_key(c, f));
-      if (o >= 0) {
-        across[o] = {ci, static_cast<std::int8_t>(f)};
-        across[6 * ci + f] = {o / 6, static_cast<std::int8_t>(o % 6)};
-      } else if (quad_on_surface(topo, c, f)) {
-        across[6 * ci + f].element = kSurface;
-      }
-      added.insert(std::lower_bound(added.begin(), added.end(), std::make_pair(quad_key(c, f), -1)),
-                   {quad_key(c, f), 6 * ci + f});
-    }
-    for (std::int32_t t : c.tets)
-      if (t >= 0) {
-        used[t] = soft[t] = 1;
-        pyramid_of[t] = -1;
-      }
-    index.add(c);
+  for (const Scored& o : order) {
+    Candidate c = cands[o.cand];
+    if (score(c) < o.gain || index_.conflicts(c)) continue;  // its neighbourhood changed
+    const std::int32_t ci = place(c, r);
     ++made;
     fresh.push_back(ci);
+    const CellFaces cf = faces_of(c.kind);
     for (int f = 0; f < cf.count; ++f)
-      if (across[6 * ci + f].element >= 0) fresh.push_back(across[6 * ci + f].element);
+      if (across_[6 * ci + f].element >= 0) fresh.push_back(across_[6 * ci + f].element);
   }
   std::sort(fresh.begin(), fresh.end());
   fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
   for (std::int32_t i : fresh)
-    if (!gone[i]) around.push_back(elements[i]);
+    if (!gone_[i]) around.push_back(s_.elements[i]);
   return made;
 }
 
@@ -381,156 +421,192 @@ std::size_t count_nc_faces(const TetTopology& topo, const std::vector<Candidate>
   return count_nc(elements, faces_across(topo, elements), std::vector<char>(elements.size(), 0));
 }
 
-NcRepair undo_nonconformal_elements(const TetTopology& topo, std::vector<Candidate>& elements,
-                                    std::vector<std::int32_t>& absorbed, std::vector<char>& used,
-                                    double flat_sj, double keep_sj, double min_pyramid,
-                                    int min_hex_gain, bool make_pyramids,
-                                    const PrismOptions* prisms) {
-  NcRepair r;
-  std::vector<Across> across = faces_across(topo, elements);
-  std::vector<char> gone(elements.size(), 0);
-  r.nc_before = count_nc(elements, across, gone);
-  // Absorbed slivers by their sorted corners: undoing an element frees those on its faces.
-  const std::vector<KeyedTet> slivers = tets_by_corners(topo, absorbed);
-  // 1: every tet it gives back, slivers on its faces included, is good enough to stand alone;
-  // 0: not; -1: not known yet.
-  std::vector<signed char> good(elements.size(), -1);
-  auto gives_back_good_tets = [&](std::int32_t i) {
-    if (good[i] >= 0) return good[i] == 1;
-    const Candidate& e = elements[i];
+namespace {
+
+// The rounds of undoing: what lies across every quad face, which elements are gone (erased at
+// the end), and per element whether the tets it would give back may stand alone.
+class Undoer {
+ public:
+  Undoer(RecombineState& s, const NcRepairOptions& o, NcRepair& r)
+      : s_(s),
+        o_(o),
+        r_(r),
+        across_(faces_across(s.topo, s.elements)),
+        gone_(s.elements.size(), 0),
+        slivers_(tets_by_corners(s.topo, s.absorbed)),
+        good_(s.elements.size(), -1) {}
+
+  std::size_t count() const { return count_nc(s_.elements, across_, gone_); }
+  // Undoes the elements worth it, round after round (undoing changes its neighbours' gains).
+  void run() {
+    for (;;) {
+      const std::vector<Undo> undo = worth_undoing();
+      if (undo.empty()) break;
+      std::vector<char> touched(s_.elements.size(), 0);
+      for (const Undo& u : undo)
+        if (!touched[u.element]) undo_element(u.element, touched);
+    }
+  }
+  std::vector<Across>& across() { return across_; }
+  std::vector<char>& gone() { return gone_; }
+
+ private:
+  // 1: every tet element i gives back, slivers on its faces included, is good enough to stand
+  // alone (s.limits.keep_tet_quality); 0: not.
+  bool gives_back_good_tets(std::int32_t i);
+  // The pyramids e's tets make on its partners' faces once e is undone (pyramid_behind), by
+  // partner face: (e's face, the pyramid), in behind_.
+  void find_pyramids_behind(std::int32_t i);
+  // The elements whose undoing lowers the NC count by their kind's minimum gain, best first.
+  std::vector<Undo> worth_undoing();
+  // Undoes element i and the pyramids on it, and makes the pyramids behind it at once (so later
+  // rounds see those faces matched); no neighbour of a touched element goes in the same round.
+  void undo_element(std::int32_t i, std::vector<char>& touched);
+
+  RecombineState& s_;
+  const NcRepairOptions& o_;
+  NcRepair& r_;
+  std::vector<Across> across_;
+  std::vector<char> gone_;
+  const std::vector<KeyedTet> slivers_;  // absorbed slivers by their sorted corners
+  std::vector<signed char> good_;        // gives_back_good_tets, -1: not known yet
+  std::vector<std::pair<int, Candidate>> behind_;
+};
+
+bool Undoer::gives_back_good_tets(std::int32_t i) {
+  if (good_[i] >= 0) return good_[i] == 1;
+  const Candidate& e = s_.elements[i];
+  const double keep_sj = s_.limits.keep_tet_quality;
+  bool ok = true;
+  for (std::int32_t t : e.tets) ok = ok && (t < 0 || tet_quality(s_.topo, t) >= keep_sj);
+  const CellFaces cf = faces_of(e.kind);
+  for (int f = 0; f < cf.count && ok; ++f) {
+    if (cf.face[f].n != 4) continue;
+    const QuadKey k = quad_key(e, f);
+    auto it = std::lower_bound(slivers_.begin(), slivers_.end(), std::make_pair(k, -1));
+    for (; it != slivers_.end() && it->first == k && ok; ++it)
+      ok = tet_quality(s_.topo, it->second) >= keep_sj;
+  }
+  good_[i] = ok ? 1 : 0;
+  return ok;
+}
+
+void Undoer::find_pyramids_behind(std::int32_t i) {
+  behind_.clear();
+  if (!o_.make_pyramids) return;
+  std::int32_t taken[8];
+  int n = 0;
+  const Candidate& e = s_.elements[i];
+  const CellFaces cf = faces_of(e.kind);
+  for (int f = 0; f < cf.count; ++f) {
+    const Across o = cf.face[f].n == 4 ? across_[6 * i + f] : Across{};
+    if (o.element < 0 || s_.elements[o.element].kind == CellKind::Pyramid5) continue;
+    Candidate c;
+    if (!pyramid_behind(s_.topo, e, f, s_.elements[o.element], o.face,
+                        s_.limits.min_pyramid_quality, taken, n, c))
+      continue;
+    taken[n++] = c.tets[0];
+    taken[n++] = c.tets[1];
+    behind_.push_back({f, c});
+  }
+}
+
+std::vector<Undo> Undoer::worth_undoing() {
+  std::vector<Undo> undo;
+  for (std::size_t i = 0; i < s_.elements.size(); ++i) {
+    if (gone_[i]) continue;
+    const CellFaces cf = faces_of(s_.elements[i].kind);
+    int gain = 0, nc = 0;
     bool ok = true;
-    for (std::int32_t t : e.tets) ok = ok && (t < 0 || tet_quality(topo, t) >= keep_sj);
-    const CellFaces cf = faces_of(e.kind);
     for (int f = 0; f < cf.count && ok; ++f) {
       if (cf.face[f].n != 4) continue;
-      const QuadKey k = quad_key(e, f);
-      auto it = std::lower_bound(slivers.begin(), slivers.end(), std::make_pair(k, -1));
-      for (; it != slivers.end() && it->first == k && ok; ++it)
-        ok = tet_quality(topo, it->second) >= keep_sj;
+      const Across& o = across_[6 * i + f];
+      if (o.element == kTets) {
+        ++gain;  // an NC face goes
+        ++nc;
+      } else if (o.element >= 0) {
+        if (s_.elements[o.element].kind == CellKind::Pyramid5)
+          ok = gives_back_good_tets(o.element);  // it goes too, leaving no NC face
+        else
+          --gain;  // the partner's face becomes NC, unless a pyramid of e's tets covers it
+      }
     }
-    good[i] = ok ? 1 : 0;
-    return ok;
-  };
-  // The pyramids e's tets make on its partners' faces once e is undone (pyramid_behind), by
-  // partner face: (e's face, the pyramid).
-  std::vector<std::pair<int, Candidate>> behind;
-  auto pyramids_behind = [&](std::int32_t i) {
-    behind.clear();
-    if (!make_pyramids) return;
-    std::int32_t taken[8];
-    int n = 0;
-    const Candidate& e = elements[i];
-    const CellFaces cf = faces_of(e.kind);
-    for (int f = 0; f < cf.count; ++f) {
-      const Across o = cf.face[f].n == 4 ? across[6 * i + f] : Across{};
-      if (o.element < 0 || elements[o.element].kind == CellKind::Pyramid5) continue;
-      Candidate c;
-      if (!pyramid_behind(topo, e, f, elements[o.element], o.face, min_pyramid, taken, n, c))
-        continue;
-      taken[n++] = c.tets[0];
-      taken[n++] = c.tets[1];
-      behind.push_back({f, c});
+    const int need = s_.elements[i].kind == CellKind::Hex8 ? o_.min_hex_gain : 1;
+    if (!ok || nc < need) continue;
+    if (gain < need) {
+      find_pyramids_behind(static_cast<std::int32_t>(i));
+      gain += static_cast<int>(behind_.size());
     }
-  };
-  // Undoing changes its neighbours' counts: rounds, no two neighbours in one.
-  for (;;) {
-    std::vector<Undo> undo;
-    for (std::size_t i = 0; i < elements.size(); ++i) {
-      if (gone[i]) continue;
-      const CellFaces cf = faces_of(elements[i].kind);
-      int gain = 0, nc = 0;
-      bool ok = true;
-      for (int f = 0; f < cf.count && ok; ++f) {
-        if (cf.face[f].n != 4) continue;
-        const Across& o = across[6 * i + f];
-        if (o.element == kTets) {
-          ++gain;  // an NC face goes
-          ++nc;
-        } else if (o.element >= 0) {
-          if (elements[o.element].kind == CellKind::Pyramid5)
-            ok = gives_back_good_tets(o.element);  // it goes too, leaving no NC face
-          else
-            --gain;  // the partner's face becomes NC, unless a pyramid of e's tets covers it
-        }
-      }
-      const int need = elements[i].kind == CellKind::Hex8 ? min_hex_gain : 1;
-      if (!ok || nc < need) continue;
-      if (gain < need) {
-        pyramids_behind(static_cast<std::int32_t>(i));
-        gain += static_cast<int>(behind.size());
-      }
-      if (gain >= need && gives_back_good_tets(static_cast<std::int32_t>(i)))
-        undo.push_back({gain, elements[i].quality, static_cast<std::int32_t>(i)});
-    }
-    if (undo.empty()) break;
-    std::sort(undo.begin(), undo.end());
-    std::vector<char> touched(elements.size(), 0);
-    for (const Undo& u : undo) {
-      if (touched[u.element]) continue;
-      pyramids_behind(u.element);  // before across changes
-      std::vector<std::int32_t> drop{u.element};
-      touched[u.element] = 1;
-      const CellFaces cf = faces_of(elements[u.element].kind);
-      for (int f = 0; f < cf.count; ++f) {
-        const std::int32_t o = cf.face[f].n == 4 ? across[6 * u.element + f].element : kTets;
-        if (o < 0) continue;
-        touched[o] = 1;
-        if (elements[o].kind == CellKind::Pyramid5) drop.push_back(o);
-      }
-      // Partners' faces as they were, for the pyramids made on them below.
-      std::vector<Across> partner;
-      for (const auto& [f, c] : behind) partner.push_back(across[6 * u.element + f]);
-      for (std::int32_t d : drop) {
-        gone[d] = 1;
-        ++r.undone[static_cast<int>(elements[d].kind)];
-        for (std::int32_t t : elements[d].tets)
-          if (t >= 0) used[t] = 0;
-        const CellFaces df = faces_of(elements[d].kind);
-        for (int f = 0; f < df.count; ++f) {
-          const Across o = df.face[f].n == 4 ? across[6 * d + f] : Across{};
-          if (o.element >= 0) across[6 * o.element + o.face] = Across{};  // now facing tets
-        }
-      }
-      // The pyramids on the partners' faces, made now so the next rounds see those faces matched.
-      for (std::size_t k = 0; k < behind.size(); ++k) {
-        const Candidate& c = behind[k].second;
-        const auto y = static_cast<std::int32_t>(elements.size());
-        for (std::int32_t t : c.tets)
-          if (t >= 0) used[t] = 1;
-        elements.push_back(c);
-        gone.push_back(0);
-        good.push_back(-1);
-        touched.push_back(1);
-        across.resize(6 * elements.size());
-        across[6 * y] = partner[k];  // the pyramid's base is its face 0
-        across[6 * partner[k].element + partner[k].face] = {y, 0};
-        ++r.pyramids_added;
-      }
+    if (gain >= need && gives_back_good_tets(static_cast<std::int32_t>(i)))
+      undo.push_back({gain, s_.elements[i].quality, static_cast<std::int32_t>(i)});
+  }
+  std::sort(undo.begin(), undo.end());
+  return undo;
+}
+
+void Undoer::undo_element(std::int32_t i, std::vector<char>& touched) {
+  std::vector<Candidate>& elements = s_.elements;
+  find_pyramids_behind(i);  // before across_ changes
+  std::vector<std::int32_t> drop{i};
+  touched[i] = 1;
+  const CellFaces cf = faces_of(elements[i].kind);
+  for (int f = 0; f < cf.count; ++f) {
+    const std::int32_t o = cf.face[f].n == 4 ? across_[6 * i + f].element : kTets;
+    if (o < 0) continue;
+    touched[o] = 1;
+    if (elements[o].kind == CellKind::Pyramid5) drop.push_back(o);
+  }
+  // Partners' faces as they were, for the pyramids made on them below.
+  std::vector<Across> partner;
+  for (const auto& [f, c] : behind_) partner.push_back(across_[6 * i + f]);
+  for (std::int32_t d : drop) {
+    gone_[d] = 1;
+    ++r_.undone[static_cast<int>(elements[d].kind)];
+    s_.release(d);
+    const CellFaces df = faces_of(elements[d].kind);
+    for (int f = 0; f < df.count; ++f) {
+      const Across o = df.face[f].n == 4 ? across_[6 * d + f] : Across{};
+      if (o.element >= 0) across_[6 * o.element + o.face] = Across{};  // now facing tets
     }
   }
+  for (std::size_t k = 0; k < behind_.size(); ++k) {
+    const auto y = static_cast<std::int32_t>(elements.size());
+    s_.place(behind_[k].second);
+    gone_.push_back(0);
+    good_.push_back(-1);
+    touched.push_back(1);
+    across_.resize(6 * elements.size());
+    across_[6 * y] = partner[k];  // the pyramid's base is its face 0
+    across_[6 * partner[k].element + partner[k].face] = {y, 0};
+    ++r_.pyramids_added;
+  }
+}
+
+}  // namespace
+
+NcRepair undo_nonconformal_elements(RecombineState& s, const NcRepairOptions& o) {
+  NcRepair r;
+  Undoer undoer(s, o, r);
+  r.nc_before = undoer.count();
+  undoer.run();
   std::vector<Candidate> around;
-  if (prisms && make_pyramids)
-    r.prisms_added =
-        prisms_in_gaps(topo, elements, across, gone, used, *prisms, min_pyramid, r, around);
-  r.nc_after = count_nc(elements, across, gone);
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < elements.size(); ++i)
-    if (!gone[i]) elements[k++] = elements[i];
-  elements.resize(k);
-  release_orphan_slivers(topo, elements, absorbed, used, flat_sj);
+  if (o.make_prisms && o.make_pyramids)
+    r.prisms_added = GapPrisms(s, undoer.across(), undoer.gone()).run(r, around);
+  r.nc_after = undoer.count();
+  s.erase(undoer.gone());  // their tets were freed when they went
+  release_orphan_slivers(s);
   // Slivers between a new prism's face and the surface or a matched face belong to it, as after
   // the prism stage; flat ones on its faces against tets too, as after the pyramids.
-  for (SliverPolicy p : {SliverPolicy::kSharedOrBoundary, SliverPolicy::kFlat}) {
-    const auto more = absorb_face_slivers(topo, around, used, p, flat_sj);
-    absorbed.insert(absorbed.end(), more.begin(), more.end());
+  for (SliverPolicy p : {SliverPolicy::kSharedOrBoundary, SliverPolicy::kFlat})
+    absorb_face_slivers(s, around, p);
+  if (o.make_pyramids) {
+    // The partners' faces left facing tets: a pyramid on one matches it (each sits on an NC face).
+    std::vector<Candidate> pyramids = enumerate_pyramids(s);
+    const std::size_t kept = place_pyramids(s, pyramids);
+    r.pyramids_added += kept;
+    r.nc_after -= kept;
   }
-  if (!make_pyramids) return r;
-  // The partners' faces left facing tets: a pyramid on one matches it (each sits on an NC face).
-  std::vector<Candidate> pyramids = enumerate_pyramids(topo, elements, used, min_pyramid);
-  const std::vector<Candidate> kept = place_pyramids(pyramids, used);
-  r.pyramids_added += kept.size();
-  r.nc_after -= kept.size();
-  elements.insert(elements.end(), kept.begin(), kept.end());
+  s.debug_verify();
   return r;
 }
 

@@ -12,8 +12,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesher/recombine_place.hpp"
-#include "mesher/recombine_slivers.hpp"
 #include "mesher/recombine_prism_pyramid.hpp"
 
 namespace hexfem {
@@ -29,21 +27,23 @@ struct NcRepair {
 // the surface.
 std::size_t count_nc_faces(const TetTopology& topo, const std::vector<Candidate>& elements);
 
+struct NcRepairOptions {
+  int min_hex_gain = 2;       // a hex is worth more than one NC face
+  bool make_pyramids = true;  // pyramids behind undone elements and on the faces left
+  bool make_prisms = true;    // prisms in gaps (only with make_pyramids)
+};
+
 // Undoes the elements whose undoing lowers the NC count by at least 1 (a hex: by at least
-// min_hex_gain; a hex is worth more than one NC face), largest gain first, never two neighbours
-// in one round; pyramids resting on an undone element go too, and (if make_pyramids) its tets
-// make pyramids of at least min_pyramid quality on its partners' faces where they can. With
-// `prisms` (and make_pyramids): prisms under those rules whose quad faces match two faces of
+// o.min_hex_gain), largest gain first, never two neighbours in one round; pyramids resting on an
+// undone element go too, and (if make_pyramids) its tets make pyramids of at least
+// s.limits.min_pyramid_quality on its partners' faces where they can. With make_prisms (and
+// make_pyramids): prisms under the prism stage's rules whose quad faces match two faces of
 // elements, made of free tets and of whole pyramids' tets, where that lowers the NC count (a
 // face it leaves facing tets counts against it unless a pyramid can go there). Then (if
 // make_pyramids) pyramids on the unshared quad faces left. An element is only undone when every
-// tet it gives back has a min scaled Jacobian of at least keep_sj. Absorbed slivers that no
-// longer qualify are freed (release_orphan_slivers with flat_sj); slivers on a new prism's faces
-// are absorbed (absorb_face_slivers).
-NcRepair undo_nonconformal_elements(const TetTopology& topo, std::vector<Candidate>& elements,
-                                    std::vector<std::int32_t>& absorbed, std::vector<char>& used,
-                                    double flat_sj, double keep_sj, double min_pyramid,
-                                    int min_hex_gain = 2, bool make_pyramids = true,
-                                    const PrismOptions* prisms = nullptr);
+// tet it gives back reaches s.limits.keep_tet_quality. Absorbed slivers that no longer qualify
+// are freed (release_orphan_slivers); slivers on a new prism's faces are absorbed
+// (absorb_face_slivers).
+NcRepair undo_nonconformal_elements(RecombineState& s, const NcRepairOptions& o = {});
 
 }  // namespace hexfem

@@ -54,9 +54,10 @@ std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindC
   return all;
 }
 
-std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candidate>& cands,
-                                      std::vector<char>& used, ConformityIndex& index,
-                                      const FillRules& rules) {
+std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
+                           ConformityIndex& index) {
+  const TetTopology& topo = s.topo;
+  std::vector<char>& used = s.used;
   if (!std::is_sorted(cands.begin(), cands.end())) std::sort(cands.begin(), cands.end());
   // Free tets around each vertex: a candidate with a corner whose tets are all taken cannot be
   // placed, and on big parts most candidates are rejected by this before any fill test.
@@ -74,14 +75,14 @@ std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candi
   // (they only read `used`), then the serial greedy pass over the chunk.
   constexpr std::size_t kChunk = 1 << 15;
   std::vector<char> fillable(std::min(cands.size(), kChunk));
-  std::vector<Candidate> kept;
+  std::size_t kept = 0;
   for (std::size_t start = 0; start < cands.size(); start += kChunk) {
     const std::size_t end = std::min(cands.size(), start + kChunk);
     const auto count = static_cast<std::ptrdiff_t>(end - start);
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t k = 0; k < count; ++k) {
       Candidate& c = cands[start + k];
-      fillable[k] = possible(c) && (c.tets[0] >= 0 || fills_element(topo, c, &used, rules));
+      fillable[k] = possible(c) && (c.tets[0] >= 0 || fills_element(topo, c, &used, s.limits.fill));
     }
     for (std::size_t i = start; i < end; ++i) {
       const Candidate& c = cands[i];
@@ -89,15 +90,15 @@ std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candi
       bool free = true;
       for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
       if (!free || index.conflicts(c)) continue;
-      for (std::int32_t t : c.tets) {
-        if (t < 0) continue;
-        used[t] = 1;
-        for (std::int32_t v : m.tets[t]) --free_around[v];
-      }
+      for (std::int32_t t : c.tets)
+        if (t >= 0)
+          for (std::int32_t v : m.tets[t]) --free_around[v];
       index.add(c);
-      kept.push_back(c);
+      s.place(c);
+      ++kept;
     }
   }
+  s.debug_verify();
   return kept;
 }
 

@@ -8,6 +8,7 @@
 
 #include "mesher/recombine_fill.hpp"
 #include "mesher/recombine_rules.hpp"
+#include "mesher/recombine_state.hpp"
 
 namespace hexfem {
 
@@ -19,11 +20,11 @@ std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindC
 
 // Greedy best-first placement: sorts `cands` (unless sorted) and keeps each one that tets fill
 // (fills_element, for candidates whose tets are not known yet), whose tets are all free and
-// that breaks no conformity rule. Marks the tets used; returns the kept candidates in order.
-// The fill test of every candidate runs first, on all threads: only its last check (the tets
-// are free) depends on the placement, and the serial pass makes that check itself.
-std::vector<Candidate> place_greedily(const TetTopology& topo, std::vector<Candidate>& cands,
-                                      std::vector<char>& used, ConformityIndex& index,
-                                      const FillRules& rules);
+// that breaks no conformity rule (s.limits.fill). Appends the kept candidates to s.elements in
+// order, their tets marked used; returns how many. The fill test of every candidate runs first,
+// on all threads: only its last check (the tets are free) depends on the placement, and the
+// serial pass makes that check itself.
+std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
+                           ConformityIndex& index);
 
 }  // namespace hexfem

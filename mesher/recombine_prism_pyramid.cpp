@@ -117,17 +117,19 @@ std::int32_t apex_of(const TetTopology& topo, std::int32_t t, std::int32_t a, st
 
 }  // namespace
 
-std::vector<Candidate> enumerate_prisms(const TetTopology& topo, const std::vector<char>& used,
-                                        const PrismOptions& options) {
-  return collect_candidates(static_cast<std::int32_t>(topo.num_vertices()),
+std::vector<Candidate> enumerate_prisms(const RecombineState& state) {
+  return collect_candidates(static_cast<std::int32_t>(state.topo.num_vertices()),
                             [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
-                              prisms_from(topo, used, v, options.min_quality, scratch, out);
+                              prisms_from(state.topo, state.used, v, state.limits.min_quality,
+                                          scratch, out);
                             });
 }
 
-std::vector<Candidate> enumerate_pyramids(const TetTopology& topo,
-                                          const std::vector<Candidate>& elements,
-                                          const std::vector<char>& used, double min_quality) {
+std::vector<Candidate> enumerate_pyramids(const RecombineState& state) {
+  const TetTopology& topo = state.topo;
+  const std::vector<Candidate>& elements = state.elements;
+  const std::vector<char>& used = state.used;
+  const double min_quality = state.limits.min_pyramid_quality;
   // Quad faces used by two elements are conformal already.
   const std::vector<QuadKey> quads = sorted_quad_keys(elements);
   std::vector<Candidate> out;
@@ -196,24 +198,25 @@ std::vector<Candidate> enumerate_pyramids(const TetTopology& topo,
   return out;
 }
 
-std::vector<Candidate> place_pyramids(std::vector<Candidate>& cands, std::vector<char>& used) {
+std::size_t place_pyramids(RecombineState& state, std::vector<Candidate>& cands) {
   std::sort(cands.begin(), cands.end());
-  std::vector<Candidate> kept;
+  std::size_t kept = 0;
   for (const Candidate& c : cands) {
     bool free = true;
-    for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
+    for (std::int32_t t : c.tets) free = free && (t < 0 || !state.used[t]);
     if (!free) continue;
-    for (std::int32_t t : c.tets)
-      if (t >= 0) used[t] = 1;
-    kept.push_back(c);
+    state.place(c);
+    ++kept;
   }
+  state.debug_verify();
   return kept;
 }
 
-std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
-                                                   const std::vector<Candidate>& elements,
-                                                   std::vector<char>& used, double flat_sj,
-                                                   double min_pyramid) {
+std::size_t merge_slivers_into_pyramids(RecombineState& state) {
+  const TetTopology& topo = state.topo;
+  const std::vector<char>& used = state.used;
+  const double flat_sj = state.limits.sliver_quality;
+  const double min_pyramid = state.limits.min_pyramid_quality;
   const TetMesh& m = topo.mesh();
   // Flattest first: a flat tet gets the tets around it before a mere sliver takes them.
   std::vector<std::pair<double, std::int32_t>> by_quality;
@@ -222,7 +225,7 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
     const double q = tet_quality(topo, static_cast<std::int32_t>(s));
     if (q < flat_sj) by_quality.emplace_back(q, static_cast<std::int32_t>(s));
   }
-  if (by_quality.empty()) return {};
+  if (by_quality.empty()) return 0;
   std::sort(by_quality.begin(), by_quality.end());
   std::vector<std::int32_t> slivers;
   for (const auto& [q, t] : by_quality) slivers.push_back(t);
@@ -248,7 +251,7 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
     }
     return false;
   };
-  for (const Candidate& e : elements) {
+  for (const Candidate& e : state.elements) {
     const CellFaces cf = faces_of(e.kind);
     for (int f = 0; f < cf.count; ++f)
       if (cf.face[f].n == 4)
@@ -266,7 +269,7 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
     }
     return -1;
   };
-  std::vector<Candidate> out;
+  std::size_t made = 0;
   for (const std::int32_t t : slivers) {
     if (used[t]) continue;  // taken by a pyramid made for an earlier sliver
     const auto& T = m.tets[t];
@@ -308,17 +311,18 @@ std::vector<Candidate> merge_slivers_into_pyramids(const TetTopology& topo,
     }
     if (best.quality < 0) continue;
     add_quad({best.nodes[0], best.nodes[1], best.nodes[2], best.nodes[3]});
-    for (std::int32_t k : best.tets)
-      if (k >= 0) used[k] = 1;
-    out.push_back(best);
+    state.place(best);
+    ++made;
   }
-  return out;
+  state.debug_verify();
+  return made;
 }
 
-std::size_t dissolve_pyramids_next_to_slivers(const TetTopology& topo,
-                                              std::vector<Candidate>& elements,
-                                              std::vector<char>& used, double flat_sj,
-                                              double element_sj) {
+std::size_t dissolve_pyramids_next_to_slivers(RecombineState& state) {
+  const TetTopology& topo = state.topo;
+  const std::vector<Candidate>& elements = state.elements;
+  const std::vector<char>& used = state.used;
+  const double flat_sj = state.limits.sliver_quality, element_sj = state.limits.keep_tet_quality;
   const TetMesh& m = topo.mesh();
   std::vector<std::int32_t> owner(m.tets.size(), -1);
   for (std::size_t e = 0; e < elements.size(); ++e)
@@ -347,17 +351,9 @@ std::size_t dissolve_pyramids_next_to_slivers(const TetTopology& topo,
         if (shared >= need) mark(*it);
       }
   }
-  std::size_t k = 0, gone = 0;
-  for (std::size_t e = 0; e < elements.size(); ++e) {
-    if (dissolve[e]) {
-      for (std::int32_t t : elements[e].tets)
-        if (t >= 0) used[t] = 0;
-      ++gone;
-      continue;
-    }
-    elements[k++] = elements[e];
-  }
-  elements.resize(k);
+  const auto gone = static_cast<std::size_t>(std::count(dissolve.begin(), dissolve.end(), 1));
+  state.remove(dissolve);
+  state.debug_verify();
   return gone;
 }
 

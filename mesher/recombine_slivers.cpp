@@ -71,10 +71,11 @@ bool quad_shared(const std::vector<QuadKey>& keys, const QuadKey& k) {
   return range.second - range.first >= 2;
 }
 
-std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
-                                              const std::vector<Candidate>& elements,
-                                              std::vector<char>& used, SliverPolicy policy,
-                                              double flat_sj) {
+std::size_t absorb_face_slivers(RecombineState& s, const std::vector<Candidate>& elements,
+                                SliverPolicy policy) {
+  const TetTopology& topo = s.topo;
+  std::vector<char>& used = s.used;
+  const double flat_sj = s.limits.sliver_quality;
   // The free tets on the four corners of a quad face, with the policy's test, on all threads:
   // quad face i of the list (quad_offsets) -> its tet, -1 none, or -2 when it qualifies only if
   // the face is shared. Marking them used is left to the serial pass below, in face order.
@@ -137,7 +138,7 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
         if (it != ask.end() && *it == k) ++count[it - ask.begin()];
       }
     }
-  std::vector<std::int32_t> out;
+  std::size_t absorbed = 0;
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const CellFaces cf = faces_of(elements[i].kind);
     std::size_t at = off[i];
@@ -152,16 +153,18 @@ std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
       }
       if (used[t]) continue;  // found from the other element on the face
       used[t] = 1;
-      out.push_back(t);
+      s.absorbed.push_back(t);
+      ++absorbed;
     }
   }
-  return out;
+  s.debug_verify();
+  return absorbed;
 }
 
-std::size_t release_orphan_slivers(const TetTopology& topo, const std::vector<Candidate>& elements,
-                                   std::vector<std::int32_t>& absorbed, std::vector<char>& used,
-                                   double flat_sj) {
-  const std::vector<QuadKey> quads = sorted_quad_keys(elements);
+std::size_t release_orphan_slivers(RecombineState& s) {
+  const TetTopology& topo = s.topo;
+  std::vector<std::int32_t>& absorbed = s.absorbed;
+  const std::vector<QuadKey> quads = sorted_quad_keys(s.elements);
   std::size_t released = 0, k = 0;
   for (std::int32_t t : absorbed) {
     QuadKey key = topo.mesh().tets[t];
@@ -174,15 +177,17 @@ std::size_t release_orphan_slivers(const TetTopology& topo, const std::vector<Ca
       on_surface +=
           topo.surface_triangle(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]) >= 0;
     const bool keep =
-        faces >= 2 || (faces == 1 && (on_surface >= 2 || tet_quality(topo, t) < flat_sj));
+        faces >= 2 ||
+        (faces == 1 && (on_surface >= 2 || tet_quality(topo, t) < s.limits.sliver_quality));
     if (keep) {
       absorbed[k++] = t;
     } else {
-      used[t] = 0;
+      s.used[t] = 0;
       ++released;
     }
   }
   absorbed.resize(k);
+  s.debug_verify();
   return released;
 }
 

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "mesher/recombine_fill.hpp"
+#include "mesher/recombine_state.hpp"
 
 namespace hexfem {
 
@@ -18,28 +18,27 @@ namespace hexfem {
 //  - kSharedOrBoundary: the face is shared by two elements, or the sliver's other two faces are
 //    surface triangles (the element's tets split the face along one diagonal, the surface along
 //    the other): the element's quad face is then the boundary face.
-//  - kFlat: any other sliver on a quad face whose min scaled Jacobian is below flat_sj (a flat
-//    tet against tets: the bilinear face passes through it; left alone it is a zero-volume cell).
-// Absorbed slivers are marked used and listed.
+//  - kFlat: any other sliver on a quad face whose min scaled Jacobian is below
+//    s.limits.sliver_quality (a flat tet against tets: the bilinear face passes through it; left
+//    alone it is a zero-volume cell).
+// Absorbed slivers are marked used and appended to s.absorbed; returns how many. `on` is
+// s.elements or a part of it.
 enum class SliverPolicy { kSharedOrBoundary, kFlat };
-std::vector<std::int32_t> absorb_face_slivers(const TetTopology& topo,
-                                              const std::vector<Candidate>& elements,
-                                              std::vector<char>& used, SliverPolicy policy,
-                                              double flat_sj = 0);
+std::size_t absorb_face_slivers(RecombineState& s, const std::vector<Candidate>& on,
+                                SliverPolicy policy);
 
 // After elements were removed: every absorbed sliver that no longer qualifies under
-// absorb_face_slivers' rules (shared by two elements, under a boundary face, or below flat_sj
-// on one element's face) is freed and dropped from `absorbed`. Returns how many.
-std::size_t release_orphan_slivers(const TetTopology& topo, const std::vector<Candidate>& elements,
-                                   std::vector<std::int32_t>& absorbed, std::vector<char>& used,
-                                   double flat_sj);
+// absorb_face_slivers' rules (shared by two elements, under a boundary face, or below
+// s.limits.sliver_quality on one element's face) is freed and dropped from s.absorbed. Returns
+// how many.
+std::size_t release_orphan_slivers(RecombineState& s);
 
-// Sorted keys (sorted corners) of every quad face of `elements`; a key listed twice is a face
-// two elements share.
 // Tets keyed by their sorted corners (a sliver on a quad face has that face's quad_key), sorted.
 using KeyedTet = std::pair<QuadKey, std::int32_t>;
 std::vector<KeyedTet> tets_by_corners(const TetTopology& topo,
                                       const std::vector<std::int32_t>& tets);
+// Sorted keys (sorted corners) of every quad face of `elements`; a key listed twice is a face
+// two elements share.
 std::vector<QuadKey> sorted_quad_keys(const std::vector<Candidate>& elements);
 bool quad_shared(const std::vector<QuadKey>& keys, const QuadKey& k);
 

@@ -38,18 +38,19 @@ double volume_gap(const TetTopology& topo, const std::vector<Candidate>& element
   return g;
 }
 
-VolumeGap limit_volume_gap(const TetTopology& topo, std::vector<Candidate>& elements,
-                           std::vector<std::int32_t>& absorbed, std::vector<char>& used,
-                           double max_rel_gap, double flat_sj, double keep_sj) {
+VolumeGap limit_volume_gap(RecombineState& s, double max_rel_gap) {
+  const TetTopology& topo = s.topo;
+  const std::vector<Candidate>& elements = s.elements;
+  const double keep_sj = s.limits.keep_tet_quality;
   VolumeGap r;
   for (std::size_t t = 0; t < topo.mesh().tets.size(); ++t) r.tets += topo.tet_volume(t);
-  double g = volume_gap(topo, elements, absorbed);
+  double g = volume_gap(topo, elements, s.absorbed);
   r.gap_before = g;
   const double budget = max_rel_gap * r.tets;
   // A few rounds: freeing slivers makes the prediction of a round inexact.
   for (int round = 0; round < 8 && std::abs(g) > budget; ++round) {
     const std::vector<QuadKey> keys = sorted_quad_keys(elements);
-    const std::vector<KeyedTet> slivers = tets_by_corners(topo, absorbed);
+    const std::vector<KeyedTet> slivers = tets_by_corners(topo, s.absorbed);
     const double sign = g < 0 ? 1.0 : -1.0;  // undoing must move g towards 0
     std::vector<Undo> undo;
     for (std::size_t i = 0; i < elements.size(); ++i) {
@@ -90,21 +91,12 @@ VolumeGap limit_volume_gap(const TetTopology& topo, std::vector<Candidate>& elem
       drop[u.element] = 1;
       predicted += u.gain;
     }
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < elements.size(); ++i) {
-      if (!drop[i]) {
-        elements[k++] = elements[i];
-        continue;
-      }
-      ++r.undone[static_cast<int>(elements[i].kind)];
-      for (std::int32_t t : elements[i].tets)
-        if (t >= 0) used[t] = 0;
-    }
-    elements.resize(k);
-    release_orphan_slivers(topo, elements, absorbed, used, flat_sj);
-    g = volume_gap(topo, elements, absorbed);
+    s.remove(drop, r.undone);
+    release_orphan_slivers(s);
+    g = volume_gap(topo, elements, s.absorbed);
   }
   r.gap_after = g;
+  s.debug_verify();
   return r;
 }
 

@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesher/recombine_place.hpp"
 #include "mesher/recombine_slivers.hpp"
+#include "mesher/recombine_state.hpp"
 
 namespace hexfem {
 
@@ -31,10 +31,8 @@ double volume_gap(const TetTopology& topo, const std::vector<Candidate>& element
 
 // Undoes elements (worst loss per volume first) until |gap| <= max_rel_gap * V(tets). An
 // element is only undone when every tet it gives back, absorbed slivers included, has a min
-// scaled Jacobian of at least keep_sj (so no flat cell appears). Absorbed slivers that no longer
-// qualify are freed (release_orphan_slivers with flat_sj).
-VolumeGap limit_volume_gap(const TetTopology& topo, std::vector<Candidate>& elements,
-                           std::vector<std::int32_t>& absorbed, std::vector<char>& used,
-                           double max_rel_gap, double flat_sj, double keep_sj);
+// scaled Jacobian of at least s.limits.keep_tet_quality (so no flat cell appears). Absorbed
+// slivers that no longer qualify are freed (release_orphan_slivers).
+VolumeGap limit_volume_gap(RecombineState& s, double max_rel_gap);
 
 }  // namespace hexfem

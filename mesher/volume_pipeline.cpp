@@ -1,14 +1,10 @@
+// The volume stages in the paper's order. Each stage takes the recombination state as the
+// previous one left it and keeps its invariant (recombine_state.hpp); mesh_volume times them.
 #include "mesher/volume_pipeline.hpp"
 
-#include <sys/resource.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <ctime>
-#include <map>
-#include <nlohmann/json.hpp>
+#include <string>
 
 #include "mesher/frame_field_3d.hpp"
 #include "mesher/mesh/conformity.hpp"
@@ -33,53 +29,100 @@ namespace hexfem {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-// A tet this flat (min scaled Jacobian) is worth undoing a prism or a hex for.
-constexpr double kFlatTetQuality = 1e-3;
-
-// CPU time of this process's threads and of its finished children (TetGen runs in one).
-double cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  rusage ru{};
-  getrusage(RUSAGE_CHILDREN, &ru);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec + ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec +
-         ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec;
+void check_options(const VolumeOptions& o) {
+  if (!(o.min_quality >= 0 && o.min_quality <= 1))
+    throw Error("min quality must be in [0, 1], got " + std::to_string(o.min_quality));
+  if (!(o.max_volume_gap > 0)) throw Error("the element volume tolerance must be positive");
+  if (!(o.max_total_gap > 0)) throw Error("the volume gap bound must be positive");
+  if (o.nc_hex_gain < 1)
+    throw Error("the NC gain of a hex undone must be at least 1, got " +
+                std::to_string(o.nc_hex_gain));
 }
 
-class StageTimer {
- public:
-  explicit StageTimer(VolumeReport& r)
-      : r_(r),
-        start_(Clock::now()),
-        last_(start_),
-        cpu_start_(cpu_seconds()),
-        cpu_last_(cpu_start_) {}
-  void stage(const char* name) {
-    const auto now = Clock::now();
-    const double cpu = cpu_seconds();
-    r_.stages.push_back(
-        {name, std::chrono::duration<double>(now - last_).count(), cpu - cpu_last_});
-    last_ = now;
-    cpu_last_ = cpu;
-  }
-  void finish() {
-    r_.total_seconds = std::chrono::duration<double>(Clock::now() - start_).count();
-    r_.total_cpu_seconds = cpu_seconds() - cpu_start_;
-  }
+RecombineLimits recombine_limits(const VolumeOptions& o) {
+  RecombineLimits l;
+  l.min_quality = o.min_quality;
+  l.min_pyramid_quality = o.min_pyramid_quality;
+  l.sliver_quality = o.flat_tet_quality;
+  l.keep_tet_quality = o.keep_tet_quality;
+  l.fill.max_volume_gap = o.max_volume_gap;
+  l.fill.max_face_twist = o.max_face_twist;
+  return l;
+}
 
- private:
-  VolumeReport& r_;
-  Clock::time_point start_, last_;
-  double cpu_start_, cpu_last_;
-};
+VolumePoints insert_points(const SurfaceMesh& surface, const FrameField3D& field,
+                           const SolidLocator& locator, const VolumeOptions& o) {
+  VolumePointsOptions po;
+  po.k = o.k;
+  po.random = o.random_points;
+  po.seed = o.random_seed;
+  po.jitter = o.jitter;
+  po.inherit_frame = o.inherit_frame;
+  return insert_volume_points(surface, field, locator, po);
+}
+
+// Paper: hexes first, best quality first, under the conformity rules; the index stays for the
+// prisms.
+void place_hexes(RecombineState& s, ConformityIndex& index, VolumeReport& r) {
+  index.reserve(s.used.size() / 6);  // at most one hex per six tets, about
+  HexOptions ho;
+  ho.min_quality = s.limits.min_quality;
+  ho.fill = s.limits.fill;
+  std::vector<Candidate> cands = enumerate_hexes(s.topo, ho);
+  r.hex_candidates = cands.size();
+  place_greedily(s, cands, index);
+}
+
+// Then prisms from the free tets, and the slivers between two elements' faces or under a
+// boundary quad.
+void place_prisms(RecombineState& s, ConformityIndex& index, const VolumeOptions& o,
+                  VolumeReport& r) {
+  if (!o.no_prisms) {
+    std::vector<Candidate> cands = enumerate_prisms(s);
+    r.prism_candidates = cands.size();
+    place_greedily(s, cands, index);
+  }
+  absorb_face_slivers(s, s.elements, SliverPolicy::kSharedOrBoundary);
+}
+
+// Pyramids on the unshared quad faces; flat slivers on quad faces go into their element, others
+// into pyramids with two tets around them. A sliver still boxed in by pyramids: they go back to
+// tets, and the sliver tries again.
+void place_pyramids_and_slivers(RecombineState& s, const VolumeOptions& o, VolumeReport& r) {
+  if (!o.no_pyramids) {
+    std::vector<Candidate> cands = enumerate_pyramids(s);
+    r.pyramid_candidates = cands.size();
+    place_pyramids(s, cands);
+  }
+  absorb_face_slivers(s, s.elements, SliverPolicy::kFlat);
+  if (o.no_pyramids) return;
+  merge_slivers_into_pyramids(s);
+  r.dissolved_pyramids = dissolve_pyramids_next_to_slivers(s);
+  if (!r.dissolved_pyramids) return;
+  release_orphan_slivers(s);
+  absorb_face_slivers(s, s.elements, SliverPolicy::kFlat);
+  merge_slivers_into_pyramids(s);
+}
+
+void repair_nc(RecombineState& s, const VolumeOptions& o, VolumeReport& r) {
+  NcRepairOptions no;
+  no.min_hex_gain = o.nc_hex_gain;
+  no.make_pyramids = !o.no_pyramids;
+  no.make_prisms = !o.no_prisms;
+  const NcRepair nr = undo_nonconformal_elements(s, no);
+  r.nc_faces_before_repair = nr.nc_before;
+  r.nc_faces_after_repair = nr.nc_after;
+  r.nc_repair_pyramids = nr.pyramids_added;
+  r.nc_repair_prisms = nr.prisms_added;
+  for (int k = 0; k < kNumCellKinds; ++k) r.nc_undone[k] = nr.undone[k];
+}
 
 // Cells and boundary faces (two surface triangles under a hex/prism quad become that quad, with
 // the CAD face they share).
-MixedMesh assemble(const SurfaceMesh& surface, const TetTopology& topo,
-                   const std::vector<Candidate>& elements, const std::vector<char>& used,
-                   const SliverFlips& flips) {
+MixedMesh assemble(const SurfaceMesh& surface, const RecombineState& s, const SliverFlips& flips) {
+  const TetTopology& topo = s.topo;
+  const std::vector<Candidate>& elements = s.elements;
+  const std::vector<char>& used = s.used;
   const TetMesh& tm = topo.mesh();
   const MixedMesh& sm = surface.mesh;
   MixedMesh mesh;
@@ -133,22 +176,21 @@ MixedMesh assemble(const SurfaceMesh& surface, const TetTopology& topo,
   return mesh;
 }
 
-// Every TetGen tet must end up in exactly one place: an element, an absorbed sliver, or a tet
-// of its own (a free one). Anything else is a bug that would overlap or drop volume.
-void check_each_tet_used_once(std::size_t num_tets, const std::vector<Candidate>& elements,
-                              const std::vector<std::int32_t>& absorbed,
-                              const std::vector<char>& used) {
-  std::vector<std::uint8_t> count(num_tets, 0);
-  for (const Candidate& e : elements)
-    for (std::int32_t t : e.tets)
-      if (t >= 0) ++count[t];
-  for (std::int32_t t : absorbed) ++count[t];
-  for (std::size_t t = 0; t < num_tets; ++t) {
-    if (!used[t]) ++count[t];
-    if (count[t] != 1)
-      throw Error("volume mesher: tet " + std::to_string(t) + " is used " +
-                  std::to_string(count[t]) + " times (internal error)");
-  }
+// The report's counts and volumes, from the state and the statistics of the emitted mesh.
+void fill_report(const RecombineState& s, const MixedMesh& mesh,
+                 const std::vector<CellFaceRef>& faces, VolumeReport& r) {
+  r.absorbed_slivers = s.absorbed.size();
+  for (const Candidate& e : s.elements)
+    for (std::int32_t t : e.tets) r.tets_in_elements += t >= 0;
+  for (std::size_t t = 0; t < s.used.size(); ++t) r.volume_tets += s.topo.tet_volume(t);
+  // Where the gap comes from: each element against its own tets, and the absorbed slivers.
+  for (const Candidate& e : s.elements) r.volume_elements_gap += element_gap(s.topo, e);
+  for (std::int32_t t : s.absorbed) r.volume_absorbed += s.topo.tet_volume(t);
+  r.stats = compute_stats(mesh, faces);
+  r.volume_rel_gap =
+      r.volume_tets > 0 ? std::abs(r.stats.volume - r.volume_tets) / r.volume_tets : 0;
+  for (std::size_t f = 0; f < mesh.num_bfaces(); ++f)
+    ++(mesh.bface_is_quad(f) ? r.boundary_quads : r.boundary_triangles);
 }
 
 }  // namespace
@@ -161,286 +203,64 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
 #ifdef _OPENMP
   r.threads = omp_get_max_threads();
 #endif
-  if (!(options.min_quality >= 0 && options.min_quality <= 1))
-    throw Error("min quality must be in [0, 1], got " + std::to_string(options.min_quality));
-  if (!(options.max_volume_gap > 0)) throw Error("the element volume tolerance must be positive");
-  if (!(options.max_total_gap > 0)) throw Error("the volume gap bound must be positive");
-  if (options.nc_hex_gain < 1)
-    throw Error("the NC gain of a hex undone must be at least 1, got " +
-                std::to_string(options.nc_hex_gain));
-  StageTimer timer(r);
-
+  check_options(options);
+  StageTimer timer;
   const FrameField3D field(surface_in);
   const SolidLocator locator(surface_in);
-  timer.stage("frame field + locator");
+  r.stages.push_back(timer.lap("frame field + locator"));
 
-  VolumePointsOptions po;
-  po.k = options.k;
-  po.random = options.random_points;
-  po.seed = options.random_seed;
-  po.jitter = options.jitter;
-  po.inherit_frame = options.inherit_frame;
-  const VolumePoints points = insert_volume_points(surface_in, field, locator, po);
+  const VolumePoints points = insert_points(surface_in, field, locator, options);
   r.surface_vertices = surface_in.mesh.nodes.size();
   r.interior_points = points.points.size();
   r.frontal_points = points.frontal_count;
-  timer.stage("volume points");
+  r.stages.push_back(timer.lap("volume points"));
 
   TetMesh tets = tetrahedralize(surface_in, points.points, locator);
   r.steiner_points = tets.steiner_points;
   r.tets = tets.tets.size();
-  timer.stage("tetgen");
+  r.stages.push_back(timer.lap("tetgen"));
 
   // Flat tets on the surface go; the surface takes their other diagonal.
   SurfaceMesh surface = surface_in;
   r.flat_boundary_tets = drop_flat_boundary_tets(tets, surface, options.flat_tet_quality);
   const TetTopology topo(tets, surface);
-  std::vector<char> used(tets.tets.size(), 0);
+  RecombineState s(topo, recombine_limits(options));
   ConformityIndex index;
-  index.reserve(tets.tets.size() / 6);  // at most one hex per six tets, about
-  HexOptions ho;
-  ho.min_quality = options.min_quality;
-  ho.fill.max_volume_gap = options.max_volume_gap;
-  ho.fill.max_face_twist = options.max_face_twist;
-  std::vector<Candidate> cands = enumerate_hexes(topo, ho);
-  r.hex_candidates = cands.size();
-  std::vector<Candidate> elements = place_greedily(topo, cands, used, index, ho.fill);
-  cands = {};
-  timer.stage("hexes");
+  place_hexes(s, index, r);
+  r.stages.push_back(timer.lap("hexes"));
+  place_prisms(s, index, options, r);
+  r.stages.push_back(timer.lap("prisms"));
+  place_pyramids_and_slivers(s, options, r);
+  r.stages.push_back(timer.lap("pyramids"));
+  if (options.nc_repair) repair_nc(s, options, r);
+  r.stages.push_back(timer.lap("nc repair"));
+  const VolumeGap vg = limit_volume_gap(s, options.max_total_gap);
+  r.volume_gap_before = vg.tets > 0 ? vg.gap_before / vg.tets : 0;
+  for (int k = 0; k < kNumCellKinds; ++k) r.gap_undone[k] = vg.undone[k];
+  r.stages.push_back(timer.lap("volume gap"));
 
-  if (!options.no_prisms) {
-    PrismOptions pr;
-    pr.min_quality = options.min_quality;
-    pr.fill.max_volume_gap = options.max_volume_gap;
-    pr.fill.max_face_twist = options.max_face_twist;
-    std::vector<Candidate> pc = enumerate_prisms(topo, used, pr);
-    r.prism_candidates = pc.size();
-    const auto kept = place_greedily(topo, pc, used, index, pr.fill);
-    elements.insert(elements.end(), kept.begin(), kept.end());
-  }
-  std::vector<std::int32_t> absorbed =
-      absorb_face_slivers(topo, elements, used, SliverPolicy::kSharedOrBoundary);
-  timer.stage("prisms");
-
-  if (!options.no_pyramids) {
-    std::vector<Candidate> yc =
-        enumerate_pyramids(topo, elements, used, options.min_pyramid_quality);
-    r.pyramid_candidates = yc.size();
-    const auto kept = place_pyramids(yc, used);
-    elements.insert(elements.end(), kept.begin(), kept.end());
-  }
-  {
-    const auto flat =
-        absorb_face_slivers(topo, elements, used, SliverPolicy::kFlat, options.flat_tet_quality);
-    absorbed.insert(absorbed.end(), flat.begin(), flat.end());
-  }
-  r.absorbed_slivers = absorbed.size();
-  if (!options.no_pyramids) {
-    auto kept = merge_slivers_into_pyramids(topo, elements, used, options.flat_tet_quality,
-                                            options.min_pyramid_quality);
-    elements.insert(elements.end(), kept.begin(), kept.end());
-    // A sliver still boxed in by pyramids: they go back to tets, and the sliver tries again.
-    r.dissolved_pyramids = dissolve_pyramids_next_to_slivers(
-        topo, elements, used, options.flat_tet_quality, kFlatTetQuality);
-    if (r.dissolved_pyramids) {
-      release_orphan_slivers(topo, elements, absorbed, used, options.flat_tet_quality);
-      const auto flat =
-          absorb_face_slivers(topo, elements, used, SliverPolicy::kFlat, options.flat_tet_quality);
-      absorbed.insert(absorbed.end(), flat.begin(), flat.end());
-      r.absorbed_slivers = absorbed.size();
-      kept = merge_slivers_into_pyramids(topo, elements, used, options.flat_tet_quality,
-                                         options.min_pyramid_quality);
-      elements.insert(elements.end(), kept.begin(), kept.end());
-    }
-  }
-  timer.stage("pyramids");
-
-  if (options.nc_repair) {
-    PrismOptions pr;  // the prism stage's rules, for prisms in gaps
-    pr.min_quality = options.min_quality;
-    pr.fill.max_volume_gap = options.max_volume_gap;
-    pr.fill.max_face_twist = options.max_face_twist;
-    const NcRepair nr = undo_nonconformal_elements(
-        topo, elements, absorbed, used, options.flat_tet_quality, kFlatTetQuality,
-        options.min_pyramid_quality, options.nc_hex_gain, !options.no_pyramids,
-        options.no_prisms ? nullptr : &pr);
-    r.nc_faces_before_repair = nr.nc_before;
-    r.nc_faces_after_repair = nr.nc_after;
-    r.nc_repair_pyramids = nr.pyramids_added;
-    r.nc_repair_prisms = nr.prisms_added;
-    for (int k = 0; k < kNumCellKinds; ++k) r.nc_undone[k] = nr.undone[k];
-    r.absorbed_slivers = absorbed.size();
-  }
-  timer.stage("nc repair");
-
-  {
-    const VolumeGap vg = limit_volume_gap(topo, elements, absorbed, used, options.max_total_gap,
-                                          options.flat_tet_quality, kFlatTetQuality);
-    r.volume_gap_before = vg.tets > 0 ? vg.gap_before / vg.tets : 0;
-    for (int k = 0; k < kNumCellKinds; ++k) r.gap_undone[k] = vg.undone[k];
-    r.absorbed_slivers = absorbed.size();
-  }
-  timer.stage("volume gap");
-
-  const SliverFlips flips = flip_slivers(topo, used, options.flat_tet_quality);
+  const SliverFlips flips = flip_slivers(s);
   r.sliver_flips = flips.flips;
   r.flipped_tets = flips.removed.size();
   r.tets_from_flips = flips.added.size();
   r.slivers_left = flips.slivers_left;
-  timer.stage("sliver flips");
+  r.stages.push_back(timer.lap("sliver flips"));
 
-  for (const Candidate& e : elements)
-    for (std::int32_t t : e.tets) r.tets_in_elements += t >= 0;
-  {
-    std::vector<std::int32_t> gone = absorbed;
-    gone.insert(gone.end(), flips.removed.begin(), flips.removed.end());
-    check_each_tet_used_once(tets.tets.size(), elements, gone, used);
-  }
-  MixedMesh mesh = assemble(surface, topo, elements, used, flips);
+  // Each TetGen tet in exactly one place, or the mesh would overlap or drop volume.
+  s.verify(flips.removed);
+  MixedMesh mesh = assemble(surface, s, flips);
   // The cell faces, sorted once for the NC flags and the statistics (moving vertices below keeps
   // them).
   const std::vector<CellFaceRef> faces = sorted_cell_faces(mesh);
   flag_nonconformal_quads(mesh, faces);
   r.lifted_cells = lift_slivers(mesh, topo.num_surface_nodes(), options.flat_tet_quality);
-  timer.stage("assembly + NC");
+  r.stages.push_back(timer.lap("assembly + NC"));
 
-  for (std::size_t t = 0; t < tets.tets.size(); ++t) r.volume_tets += topo.tet_volume(t);
-  // Where the gap comes from: each element against its own tets, and the absorbed slivers.
-  for (const Candidate& e : elements) r.volume_elements_gap += element_gap(topo, e);
-  for (std::int32_t t : absorbed) r.volume_absorbed += topo.tet_volume(t);
-  r.stats = compute_stats(mesh, faces);
-  const MeshStats& st = r.stats;
-  r.vertices = st.num_nodes;
-  r.cells = st.cells_per_kind;
-  r.num_cells = st.num_cells;
-  r.h_nbr = st.h_nbr;
-  r.h_vol = st.h_vol;
-  r.q_mean = st.q_mean;
-  r.q_min = st.q_min;
-  r.interior_quads = st.interior_quads;
-  r.nc_quads = st.nonconformal_quads;
-  r.nc_percent = st.nc_percent;
-  r.inverted = st.inverted;
-  r.volume_mixed = st.volume;
-  r.volume_rel_gap =
-      r.volume_tets > 0 ? std::abs(r.volume_mixed - r.volume_tets) / r.volume_tets : 0;
-  for (std::size_t f = 0; f < mesh.num_bfaces(); ++f)
-    ++(mesh.bface_is_quad(f) ? r.boundary_quads : r.boundary_triangles);
-  timer.stage("statistics");
-  timer.finish();
+  fill_report(s, mesh, faces, r);
+  r.stages.push_back(timer.lap("statistics"));
+  r.total_seconds = timer.total_seconds();
+  r.total_cpu_seconds = timer.total_cpu_seconds();
   return mesh;
-}
-
-nlohmann::json volume_report_json(const VolumeReport& r) {
-  nlohmann::json j;
-  j["vertices"] = r.vertices;
-  j["surface_vertices"] = r.surface_vertices;
-  j["interior_points"] = r.interior_points;
-  j["steiner_points"] = r.steiner_points;
-  if (r.frontal_points) j["frontal_points"] = r.frontal_points;
-  j["tets_from_tetgen"] = r.tets;
-  j["absorbed_slivers"] = r.absorbed_slivers;
-  j["tets_in_elements"] = r.tets_in_elements;
-  j["flat_boundary_tets"] = r.flat_boundary_tets;
-  j["dissolved_pyramids"] = r.dissolved_pyramids;
-  j["sliver_flips"] = r.sliver_flips;
-  j["flipped_tets"] = r.flipped_tets;
-  j["tets_from_flips"] = r.tets_from_flips;
-  j["slivers_left"] = r.slivers_left;
-  j["lifted_cells"] = r.lifted_cells;
-  nlohmann::json cells;
-  for (int k = 0; k < kNumCellKinds; ++k) cells[kind_name(static_cast<CellKind>(k))] = r.cells[k];
-  j["cells"] = cells;
-  j["num_cells"] = r.num_cells;
-  j["candidates"] = {{"hex8", r.hex_candidates},
-                     {"wedge6", r.prism_candidates},
-                     {"pyramid5", r.pyramid_candidates}};
-  j["h_nbr_percent"] = r.h_nbr;
-  j["h_vol_percent"] = r.h_vol;
-  j["q_mean"] = r.q_mean;
-  j["q_min"] = r.q_min;
-  j["interior_quads"] = r.interior_quads;
-  j["nc_quads"] = r.nc_quads;
-  j["nc_percent"] = r.nc_percent;
-  j["inverted"] = r.inverted;
-  j["boundary_triangles"] = r.boundary_triangles;
-  j["boundary_quads"] = r.boundary_quads;
-  j["volume_tets"] = r.volume_tets;
-  j["volume_mixed"] = r.volume_mixed;
-  j["volume_rel_gap"] = r.volume_rel_gap;
-  j["volume_elements_gap"] = r.volume_elements_gap;
-  j["volume_absorbed"] = r.volume_absorbed;
-  j["volume_gap_before_limit"] = r.volume_gap_before;
-  nlohmann::json undone;
-  for (int k = 0; k < kNumCellKinds; ++k)
-    if (r.gap_undone[k]) undone[kind_name(static_cast<CellKind>(k))] = r.gap_undone[k];
-  j["undone_for_volume_gap"] = undone.is_null() ? nlohmann::json::object() : undone;
-  nlohmann::json nc_undone;
-  for (int k = 0; k < kNumCellKinds; ++k)
-    if (r.nc_undone[k]) nc_undone[kind_name(static_cast<CellKind>(k))] = r.nc_undone[k];
-  j["nc_repair"] = {{"nc_faces_before", r.nc_faces_before_repair},
-                    {"nc_faces_after", r.nc_faces_after_repair},
-                    {"undone", nc_undone.is_null() ? nlohmann::json::object() : nc_undone},
-                    {"pyramids_added", r.nc_repair_pyramids},
-                    {"prisms_added", r.nc_repair_prisms}};
-  nlohmann::json stages = nlohmann::json::array();
-  for (const auto& s : r.stages)
-    stages.push_back({{"stage", s.name}, {"seconds", s.seconds}, {"cpu_seconds", s.cpu_seconds}});
-  j["stages"] = stages;
-  j["total_seconds"] = r.total_seconds;
-  j["total_cpu_seconds"] = r.total_cpu_seconds;
-  j["threads"] = r.threads;
-  return j;
-}
-
-std::string volume_report_text(const VolumeReport& r) {
-  char buf[512];
-  std::string s;
-  auto line = [&](const char* fmt, auto... args) {
-    std::snprintf(buf, sizeof buf, fmt, args...);
-    s += buf;
-    s += '\n';
-  };
-  line("vertices        %zu (surface %zu, interior %zu, steiner %zu)", r.vertices,
-       r.surface_vertices, r.interior_points, r.steiner_points);
-  line("tets (tetgen)   %zu (%zu flat slivers on quad faces absorbed)", r.tets, r.absorbed_slivers);
-  line(
-      "sliver flips    %zu (%zu tets -> %zu), %zu slivers left; %zu flat tets on the surface "
-      "dropped",
-      r.sliver_flips, r.flipped_tets, r.tets_from_flips, r.slivers_left, r.flat_boundary_tets);
-  if (r.lifted_cells)
-    line("lifted          %zu slivers by moving one interior vertex each", r.lifted_cells);
-  line("elements        %zu: hex %zu, prism %zu, pyramid %zu, tet %zu", r.num_cells,
-       r.cells[static_cast<int>(CellKind::Hex8)], r.cells[static_cast<int>(CellKind::Wedge6)],
-       r.cells[static_cast<int>(CellKind::Pyramid5)], r.cells[static_cast<int>(CellKind::Tet4)]);
-  line("H_nbr           %.2f %%", r.h_nbr);
-  line("H_vol           %.2f %%", r.h_vol);
-  line("Q (hex)         mean %.3f, min %.3f", r.q_mean, r.q_min);
-  line("NC              %.2f %% (%zu of %zu interior quads)", r.nc_percent, r.nc_quads,
-       r.interior_quads);
-  line("inverted        %zu", r.inverted);
-  line(
-      "volume          tets %.9g, mixed %.9g, gap %.2e (elements - their tets %.4g, absorbed "
-      "slivers %.4g)",
-      r.volume_tets, r.volume_mixed, r.volume_rel_gap, r.volume_elements_gap, r.volume_absorbed);
-  line("volume gap      %.2e before undoing %zu hex, %zu prism, %zu pyramid losing most",
-       std::abs(r.volume_gap_before), r.gap_undone[static_cast<int>(CellKind::Hex8)],
-       r.gap_undone[static_cast<int>(CellKind::Wedge6)],
-       r.gap_undone[static_cast<int>(CellKind::Pyramid5)]);
-  if (r.nc_faces_before_repair > 0)  // not with --no-nc-repair
-    line(
-        "nc repair       %zu -> %zu NC faces: undid %zu hex, %zu prism, %zu pyramid; made %zu "
-        "pyramids, %zu prisms",
-        r.nc_faces_before_repair, r.nc_faces_after_repair,
-        r.nc_undone[static_cast<int>(CellKind::Hex8)],
-        r.nc_undone[static_cast<int>(CellKind::Wedge6)],
-        r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids,
-        r.nc_repair_prisms);
-  for (const auto& st : r.stages)
-    line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);
-  line("time total                 %8.3f s wall %8.3f s cpu (%d threads)", r.total_seconds,
-       r.total_cpu_seconds, r.threads);
-  return s;
 }
 
 }  // namespace hexfem

@@ -4,12 +4,12 @@
 
 #include <array>
 #include <cstdint>
-#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
 #include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
+#include "mesher/stage_timer.hpp"
 #include "mesher/surface_mesh.hpp"
 
 namespace hexfem {
@@ -33,6 +33,9 @@ struct VolumeOptions {
   // element (a sliver between the face's two diagonals).
   double flat_tet_quality = 0.02;
   double min_pyramid_quality = 0.05;  // pyramids with a lower min scaled Jacobian stay two tets
+  // An element goes back to tets (NC repair, volume gap) only when each tet it gives back has at
+  // least this min scaled Jacobian; a tet this flat next to a pyramid makes the pyramid go.
+  double keep_tet_quality = 1e-3;
   // |V(mixed) - V(tets)| / V(tets) allowed: elements whose unshared twisted quad faces lose the
   // most volume go back to tets until it holds (volume_gap.hpp; --max-gap).
   double max_total_gap = 8e-4;
@@ -46,12 +49,7 @@ struct VolumeOptions {
 };
 
 struct VolumeReport {
-  struct Stage {
-    std::string name;
-    double seconds = 0;      // wall clock
-    double cpu_seconds = 0;  // CPU time of all threads (and of the TetGen child process)
-  };
-  std::size_t surface_vertices = 0, interior_points = 0, steiner_points = 0, vertices = 0;
+  std::size_t surface_vertices = 0, interior_points = 0, steiner_points = 0;
   std::size_t frontal_points = 0;    // random mode: the frontal count it aimed at
   std::size_t tets = 0;              // TetGen's tets (inside the solids)
   std::size_t absorbed_slivers = 0;  // flat tets on a hex/prism quad face, merged into it
@@ -65,16 +63,10 @@ struct VolumeReport {
   // Slivers left at the end, improved by moving one interior vertex (lift_slivers).
   std::size_t lifted_cells = 0;
   std::size_t dissolved_pyramids = 0;  // pyramids (and prisms) by slivers turned back into tets
-  std::array<std::size_t, kNumCellKinds> cells{};  // by CellKind
-  std::size_t num_cells = 0;
   std::size_t hex_candidates = 0, prism_candidates = 0, pyramid_candidates = 0;
-  double h_nbr = 0, h_vol = 0;   // % of cells / of volume in hexes
-  double q_mean = 0, q_min = 0;  // over hexes
-  std::size_t interior_quads = 0, nc_quads = 0;
-  double nc_percent = 0;
-  std::size_t inverted = 0;
   std::size_t boundary_triangles = 0, boundary_quads = 0;
-  double volume_tets = 0, volume_mixed = 0, volume_rel_gap = 0;  // gap = |mixed - tets| / tets
+  // gap = |V(mixed) - V(tets)| / V(tets), V(mixed) = stats.volume.
+  double volume_tets = 0, volume_rel_gap = 0;
   // Sum over elements of V(element) - V(its tets), and V(absorbed slivers): the mixed volume
   // is V(tets) + the first - the second + what elements' bilinear faces add around slivers.
   double volume_elements_gap = 0, volume_absorbed = 0;
@@ -86,8 +78,9 @@ struct VolumeReport {
   std::size_t nc_faces_before_repair = 0, nc_faces_after_repair = 0, nc_repair_pyramids = 0;
   std::size_t nc_repair_prisms = 0;  // prisms made in gaps between elements
   std::array<std::size_t, kNumCellKinds> nc_undone{};
-  MeshStats stats;  // of the mesh returned (the figures above come from it)
-  std::vector<Stage> stages;
+  // The mesh returned: vertices, cells per kind, H_nbr, H_vol, Q, NC, inverted, volume.
+  MeshStats stats;
+  std::vector<StageTime> stages;
   double total_seconds = 0, total_cpu_seconds = 0;
   int threads = 1;
 };
@@ -95,9 +88,5 @@ struct VolumeReport {
 // Throws hexfem::Error (one line) for a bad surface mesh or option, or when TetGen fails.
 MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options = {},
                       VolumeReport* report = nullptr);
-
-nlohmann::json volume_report_json(const VolumeReport& r);
-// The paper's table row and the per-stage times, one quantity per line.
-std::string volume_report_text(const VolumeReport& r);
 
 }  // namespace hexfem

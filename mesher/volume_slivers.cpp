@@ -185,7 +185,10 @@ Flip remove_edge(FreeTets& ft, std::int32_t t0, std::int32_t p, std::int32_t q) 
 
 }  // namespace
 
-SliverFlips flip_slivers(const TetTopology& topo, std::vector<char>& used, double flat_sj) {
+SliverFlips flip_slivers(RecombineState& s) {
+  const TetTopology& topo = s.topo;
+  std::vector<char>& used = s.used;
+  const double flat_sj = s.limits.sliver_quality;
   SliverFlips out;
   FreeTets ft(topo, used);
   const auto num_tetgen = static_cast<std::int32_t>(ft.size());
@@ -205,7 +208,7 @@ SliverFlips flip_slivers(const TetTopology& topo, std::vector<char>& used, doubl
         }
       if (best.new_min <= -2) continue;
       const std::int32_t solid = ft.solid(t);
-      for (std::int32_t s : best.shell) ft.kill(s);
+      for (std::int32_t k : best.shell) ft.kill(k);
       for (const Tet& n : best.added) ft.add(n, solid);
       ++out.flips;
       changed = true;

@@ -12,8 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesher/recombine_place.hpp"
-#include "mesher/recombine_slivers.hpp"
+#include "mesher/recombine_state.hpp"
 
 namespace hexfem {
 
@@ -35,9 +34,10 @@ struct SliverFlips {
 // were dropped; `tets` and `surface` are updated.
 std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj);
 
-// Flips away every free tet with min scaled Jacobian below flat_sj whose edge shells are free
-// and can be re-triangulated with a better minimum (shells of up to 7 tets). Deterministic.
-SliverFlips flip_slivers(const TetTopology& topo, std::vector<char>& used, double flat_sj);
+// Flips away every free tet with min scaled Jacobian below s.limits.sliver_quality whose edge
+// shells are free and can be re-triangulated with a better minimum (shells of up to 7 tets).
+// The tets replaced are marked used (s.verify(flips.removed) holds after). Deterministic.
+SliverFlips flip_slivers(RecombineState& s);
 
 // Last resort for slivers left after the flips (their shells are not free, or no flip helps):
 // for each cell with a min scaled Jacobian below `below`, one of its interior vertices (index >=

@@ -95,27 +95,23 @@ int main(int argc, char** argv) {
     for (int r = 0; r < repeat; ++r) {
       const TetTopology* topo = nullptr;
       timed(t_topo, [&] { topo = new TetTopology(tets, surface); });
+      RecombineLimits limits;
+      limits.min_quality = defaults.min_quality;
+      limits.fill.max_volume_gap = defaults.max_volume_gap;
+      limits.fill.max_face_twist = defaults.max_face_twist;
       HexOptions ho;
-      ho.min_quality = defaults.min_quality;
-      ho.fill.max_volume_gap = defaults.max_volume_gap;
-      ho.fill.max_face_twist = defaults.max_face_twist;
+      ho.min_quality = limits.min_quality;
+      ho.fill = limits.fill;
       std::vector<Candidate> cands;
       timed(t_enum, [&] { cands = enumerate_hexes(*topo, ho); });
-      std::vector<char> used(tets.tets.size(), 0);
+      RecombineState state(*topo, limits);
       ConformityIndex index;
-      std::vector<Candidate> hexes;
-      timed(t_place, [&] { hexes = place_greedily(*topo, cands, used, index, ho.fill); });
-      std::vector<Candidate> prisms;
+      timed(t_place, [&] { nhex = place_greedily(state, cands, index); });
       timed(t_prism, [&] {
-        PrismOptions pr;
-        pr.min_quality = defaults.min_quality;
-        pr.fill = ho.fill;
-        std::vector<Candidate> pc = enumerate_prisms(*topo, used, pr);
-        prisms = place_greedily(*topo, pc, used, index, pr.fill);
+        std::vector<Candidate> pc = enumerate_prisms(state);
+        nprism = place_greedily(state, pc, index);
       });
       ncand = cands.size();
-      nhex = hexes.size();
-      nprism = prisms.size();
       delete topo;
     }
     std::printf("hex candidates %zu, hexes %zu, prisms %zu\n", ncand, nhex, nprism);

@@ -166,10 +166,12 @@ int main(int argc, char** argv) {
     std::printf(
         "%s h=%g: vertices %zu (surface %zu, interior %zu); cells %zu: hex %zu prism %zu "
         "pyr %zu tet %zu; H_nbr %.2f H_vol %.2f NC %.2f Q %.3f gap %.1e\n",
-        part.c_str(), h, r.vertices, r.surface_vertices, r.interior_points, r.num_cells,
-        r.cells[static_cast<int>(CellKind::Hex8)], r.cells[static_cast<int>(CellKind::Wedge6)],
-        r.cells[static_cast<int>(CellKind::Pyramid5)], r.cells[static_cast<int>(CellKind::Tet4)],
-        r.h_nbr, r.h_vol, r.nc_percent, r.q_mean, r.volume_rel_gap);
+        part.c_str(), h, r.stats.num_nodes, r.surface_vertices, r.interior_points,
+        r.stats.num_cells, r.stats.cells_per_kind[static_cast<int>(CellKind::Hex8)],
+        r.stats.cells_per_kind[static_cast<int>(CellKind::Wedge6)],
+        r.stats.cells_per_kind[static_cast<int>(CellKind::Pyramid5)],
+        r.stats.cells_per_kind[static_cast<int>(CellKind::Tet4)], r.stats.h_nbr, r.stats.h_vol,
+        r.stats.nc_percent, r.stats.q_mean, r.volume_rel_gap);
     if (!out.empty()) write_mesh(mesh, out);
     if (quick) return 0;
 

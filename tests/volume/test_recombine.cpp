@@ -42,17 +42,17 @@ TEST(RecombineHex, FindsEveryCubeOfAKuhnLattice) {
   const Lattice L = lattice_of_tets(4, 3, 2, CellKind::Tet4);
   const TetTopology topo(L.tets, L.surface);
   std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
-  std::vector<char> used(L.tets.tets.size(), 0);
+  RecombineState state(topo, RecombineLimits{});
   ConformityIndex index;
-  const auto hexes = place_greedily(topo, cands, used, index, FillRules{});
-  ASSERT_EQ(hexes.size(), 24u);
+  ASSERT_EQ(place_greedily(state, cands, index), 24u);
+  const std::vector<Candidate>& hexes = state.elements;
   for (const Candidate& h : hexes) {
     EXPECT_FLOAT_EQ(h.quality, 1.0f);
     int ntets = 0;
     for (auto t : h.tets) ntets += t >= 0;
     EXPECT_EQ(ntets, 6);  // Kuhn: six tets per cube
   }
-  for (char u : used) EXPECT_TRUE(u);
+  for (char u : state.used) EXPECT_TRUE(u);
   // The sheared parallelepipeds the lattice also contains score below the cubes.
   EXPECT_GT(cands.size(), hexes.size());
   for (std::size_t i = 1; i < cands.size(); ++i) EXPECT_FALSE(cands[i] < cands[i - 1]);
@@ -70,9 +70,9 @@ TEST(RecombineHex, QuadAcrossTwoCadFacesIsNotMade) {
   auto hexes_made = [](const Lattice& l) {
     const TetTopology topo(l.tets, l.surface);
     std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
-    std::vector<char> used(l.tets.tets.size(), 0);
+    RecombineState state(topo, RecombineLimits{});
     ConformityIndex index;
-    return place_greedily(topo, cands, used, index, FillRules{}).size();
+    return place_greedily(state, cands, index);
   };
   EXPECT_EQ(hexes_made(L), 0u);
   EXPECT_EQ(hexes_made(lattice_of_tets(1, 1, 1, CellKind::Tet4)), 1u);
@@ -81,10 +81,11 @@ TEST(RecombineHex, QuadAcrossTwoCadFacesIsNotMade) {
 TEST(RecombinePrism, FindsPrismsWhenHexesAreNotMade) {
   const Lattice L = lattice_of_tets(2, 2, 1, CellKind::Tet4);
   const TetTopology topo(L.tets, L.surface);
-  std::vector<char> used(L.tets.tets.size(), 0);
-  std::vector<Candidate> pc = enumerate_prisms(topo, used, PrismOptions{});
+  RecombineState state(topo, RecombineLimits{});
+  std::vector<Candidate> pc = enumerate_prisms(state);
   ConformityIndex index;
-  const auto prisms = place_greedily(topo, pc, used, index, FillRules{});
+  place_greedily(state, pc, index);
+  const std::vector<Candidate>& prisms = state.elements;
   // 24 tets: at most 8 prisms of three tets; each kept prism is valid and made of 3 tets.
   EXPECT_GE(prisms.size(), 4u);
   for (const Candidate& p : prisms) {
@@ -139,10 +140,11 @@ Recombined lattice_with_hexes(Keep keep, int nz = 3) {
   Recombined R{lattice_of_tets(3, 3, nz, CellKind::Tet4), {}, {}};
   const TetTopology topo(R.lattice.tets, R.lattice.surface);
   std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
-  std::vector<char> used(R.lattice.tets.tets.size(), 0);
+  RecombineState state(topo, RecombineLimits{});
   ConformityIndex index;
-  R.used.assign(used.size(), 0);
-  for (const Candidate& h : place_greedily(topo, cands, used, index, FillRules{})) {
+  R.used.assign(state.used.size(), 0);
+  place_greedily(state, cands, index);
+  for (const Candidate& h : state.elements) {
     Vec3 c{0, 0, 0};  // the cube's centre
     for (int i = 0; i < 8; ++i)
       for (int d = 0; d < 3; ++d) c[d] += R.lattice.tets.nodes[h.nodes[i]][d] / 8;
@@ -154,20 +156,61 @@ Recombined lattice_with_hexes(Keep keep, int nz = 3) {
   return R;
 }
 
+// The NC repair on R's hexes, with the given pyramid quality and hex gain; the state it leaves
+// must keep each tet in one place.
+struct Repaired {
+  NcRepair nr;
+  std::vector<Candidate> elements;
+  std::vector<char> used;
+  std::size_t nc_left;  // counted again on the elements left
+};
+Repaired repair(const Recombined& R, double min_pyramid, int min_hex_gain, bool pyramids = true,
+                bool prisms = false) {
+  const TetTopology topo(R.lattice.tets, R.lattice.surface);
+  RecombineLimits limits;
+  limits.min_pyramid_quality = min_pyramid;
+  RecombineState state(topo, limits);
+  state.elements = R.hexes;
+  state.used = R.used;
+  NcRepairOptions o;
+  o.min_hex_gain = min_hex_gain;
+  o.make_pyramids = pyramids;
+  o.make_prisms = prisms;
+  const NcRepair nr = undo_nonconformal_elements(state, o);
+  EXPECT_NO_THROW(state.verify());
+  return {nr, state.elements, state.used, count_nc_faces(topo, state.elements)};
+}
+
+TEST(RecombineState, VerifyFindsATetInTwoPlacesOrInNone) {
+  const Lattice L = lattice_of_tets(1, 1, 1, CellKind::Tet4);
+  const TetTopology topo(L.tets, L.surface);
+  RecombineState state(topo, RecombineLimits{});
+  std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
+  ConformityIndex index;
+  ASSERT_EQ(place_greedily(state, cands, index), 1u);
+  EXPECT_NO_THROW(state.verify());
+  state.absorbed.push_back(state.elements[0].tets[0]);  // also in the hex
+  EXPECT_THROW(state.verify(), Error);
+  state.absorbed.clear();
+  state.used[state.elements[0].tets[1]] = 0;  // in the hex, yet marked free
+  EXPECT_THROW(state.verify(), Error);
+  state.remove(std::vector<char>{1});
+  EXPECT_NO_THROW(state.verify());
+  for (char u : state.used) EXPECT_FALSE(u);
+}
+
 TEST(NcRepair, LoneHexAmongTetsGoesBack) {
   // The middle cube alone: six quad faces against tets (NC); undoing it leaves none.
   Recombined R = lattice_with_hexes([](int i, int j, int k) { return i == 1 && j == 1 && k == 1; });
   ASSERT_EQ(R.hexes.size(), 1u);
-  const TetTopology topo(R.lattice.tets, R.lattice.surface);
-  std::vector<std::int32_t> absorbed;
-  const NcRepair nr =
-      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 1);
+  const Repaired out = repair(R, 0.05, 1);
+  const NcRepair& nr = out.nr;
   EXPECT_EQ(nr.nc_before, 6u);
   EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 1u);
   EXPECT_EQ(nr.nc_after, 0u);
-  EXPECT_EQ(count_nc_faces(topo, R.hexes), nr.nc_after);
-  EXPECT_TRUE(R.hexes.empty());
-  for (char u : R.used) EXPECT_FALSE(u);  // its six tets are free again
+  EXPECT_EQ(out.nc_left, nr.nc_after);
+  EXPECT_TRUE(out.elements.empty());
+  for (char u : out.used) EXPECT_FALSE(u);  // its six tets are free again
 }
 
 TEST(NcRepair, HexLayerOnTheSurfaceStays) {
@@ -175,15 +218,13 @@ TEST(NcRepair, HexLayerOnTheSurfaceStays) {
   // matched faces beside it, so undoing any would make more NC faces than it removes.
   Recombined R = lattice_with_hexes([](int, int, int k) { return k == 0; });
   ASSERT_EQ(R.hexes.size(), 9u);
-  const TetTopology topo(R.lattice.tets, R.lattice.surface);
-  std::vector<std::int32_t> absorbed;
-  const NcRepair nr =
-      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 1, false);
+  const Repaired out = repair(R, 0.05, 1, false);
+  const NcRepair& nr = out.nr;
   EXPECT_EQ(nr.nc_before, 9u);
   EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 0u);
   EXPECT_EQ(nr.nc_after, 9u);
-  EXPECT_EQ(count_nc_faces(topo, R.hexes), nr.nc_after);
-  EXPECT_EQ(R.hexes.size(), 9u);
+  EXPECT_EQ(out.nc_left, nr.nc_after);
+  EXPECT_EQ(out.elements.size(), 9u);
 }
 
 TEST(NcRepair, HexStickingOutOfALayerGoesBack) {
@@ -192,15 +233,13 @@ TEST(NcRepair, HexStickingOutOfALayerGoesBack) {
   Recombined R = lattice_with_hexes(
       [](int i, int j, int k) { return k == 0 || (i == 1 && j == 1 && k == 1); });
   ASSERT_EQ(R.hexes.size(), 10u);
-  const TetTopology topo(R.lattice.tets, R.lattice.surface);
-  std::vector<std::int32_t> absorbed;
-  const NcRepair nr =
-      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 1, false);
+  const Repaired out = repair(R, 0.05, 1, false);
+  const NcRepair& nr = out.nr;
   EXPECT_EQ(nr.nc_before, 8u + 5u);  // the middle of the layer is matched by the cube on top
   EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 1u);
   EXPECT_EQ(nr.nc_after, 9u);
-  EXPECT_EQ(count_nc_faces(topo, R.hexes), nr.nc_after);
-  EXPECT_EQ(R.hexes.size(), 9u);
+  EXPECT_EQ(out.nc_left, nr.nc_after);
+  EXPECT_EQ(out.elements.size(), 9u);
 }
 
 // A row of three cubes across a one-cube-thick slab (their z faces on the surface), the other
@@ -219,18 +258,19 @@ TEST(NcRepair, HexWhosePartnersGetPyramidsGoesBack) {
   // (which goes with it) and gains 2. Every NC face goes: 6 -> 0.
   Recombined R = slab_row();
   ASSERT_EQ(R.hexes.size(), 3u);
-  const TetTopology topo(R.lattice.tets, R.lattice.surface);
-  EXPECT_EQ(count_nc_faces(topo, R.hexes), 6u);
-  std::vector<std::int32_t> absorbed;
-  const NcRepair nr =
-      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 2);
+  {
+    const TetTopology topo(R.lattice.tets, R.lattice.surface);
+    EXPECT_EQ(count_nc_faces(topo, R.hexes), 6u);
+  }
+  const Repaired out = repair(R, 0.05, 2);
+  const NcRepair& nr = out.nr;
   EXPECT_EQ(nr.nc_before, 6u);
   EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 3u);
   EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Pyramid5)], 2u);  // made, then gone with the ends
   EXPECT_EQ(nr.pyramids_added, 2u);
   EXPECT_EQ(nr.nc_after, 0u);
-  EXPECT_TRUE(R.hexes.empty());
-  for (char u : R.used) EXPECT_FALSE(u);
+  EXPECT_TRUE(out.elements.empty());
+  for (char u : out.used) EXPECT_FALSE(u);
 }
 
 TEST(NcRepair, HexWhosePartnersGetNoPyramidStays) {
@@ -238,16 +278,14 @@ TEST(NcRepair, HexWhosePartnersGetNoPyramidStays) {
   // the middle cube would turn both partner faces NC (gain 0), the end cubes gain 1 < 2.
   Recombined R = slab_row();
   ASSERT_EQ(R.hexes.size(), 3u);
-  const TetTopology topo(R.lattice.tets, R.lattice.surface);
-  std::vector<std::int32_t> absorbed;
-  const NcRepair nr =
-      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.9, 2);
+  const Repaired out = repair(R, 0.9, 2);
+  const NcRepair& nr = out.nr;
   EXPECT_EQ(nr.nc_before, 6u);
   EXPECT_EQ(nr.undone[static_cast<int>(CellKind::Hex8)], 0u);
   EXPECT_EQ(nr.pyramids_added, 0u);
   EXPECT_EQ(nr.nc_after, 6u);
-  EXPECT_EQ(count_nc_faces(topo, R.hexes), 6u);
-  EXPECT_EQ(R.hexes.size(), 3u);
+  EXPECT_EQ(out.nc_left, 6u);
+  EXPECT_EQ(out.elements.size(), 3u);
 }
 
 // A one-cube-thick slab of 3x3 cubes, all hexes but the middle one (tets): its four side faces
@@ -282,53 +320,48 @@ std::size_t unmatched_interior_quads(const Lattice& L, const std::vector<Candida
 TEST(NcRepair, PrismsFillTheGapBetweenHexFaces) {
   Recombined R = slab_around_a_hole();
   ASSERT_EQ(R.hexes.size(), 8u);
-  const TetTopology topo(R.lattice.tets, R.lattice.surface);
-  std::vector<std::int32_t> absorbed;
-  const PrismOptions prisms;
-  const NcRepair nr = undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05,
-                                                 2, true, &prisms);
+  const Repaired out = repair(R, 0.05, 2, true, true);
+  const NcRepair& nr = out.nr;
   EXPECT_EQ(nr.nc_before, 4u);
   EXPECT_EQ(nr.prisms_added, 2u);
   EXPECT_EQ(nr.nc_after, 0u);
-  EXPECT_EQ(unmatched_interior_quads(R.lattice, R.hexes), 0u);
+  EXPECT_EQ(unmatched_interior_quads(R.lattice, out.elements), 0u);
   int hexes = 0, wedges = 0;
-  for (const Candidate& e : R.hexes) {
+  for (const Candidate& e : out.elements) {
     hexes += e.kind == CellKind::Hex8;
     wedges += e.kind == CellKind::Wedge6;
     EXPECT_GT(e.quality, 0.8f);  // right-angled prisms: sqrt(2)/2 * 2/sqrt(3) = 0.816
   }
   EXPECT_EQ(hexes, 8);
   EXPECT_EQ(wedges, 2);
-  for (char u : R.used) EXPECT_TRUE(u);
+  for (char u : out.used) EXPECT_TRUE(u);
 }
 
 TEST(NcRepair, WithoutPrismsPyramidsLeaveTwoNcFaces) {
   Recombined R = slab_around_a_hole();
-  const TetTopology topo(R.lattice.tets, R.lattice.surface);
-  std::vector<std::int32_t> absorbed;
-  const NcRepair nr =
-      undo_nonconformal_elements(topo, R.hexes, absorbed, R.used, 0.02, 1e-3, 0.05, 2, true);
+  const Repaired out = repair(R, 0.05, 2, true);
+  const NcRepair& nr = out.nr;
   EXPECT_EQ(nr.nc_before, 4u);
   EXPECT_EQ(nr.prisms_added, 0u);
   EXPECT_EQ(nr.pyramids_added, 2u);
   EXPECT_EQ(nr.nc_after, 2u);
-  EXPECT_EQ(unmatched_interior_quads(R.lattice, R.hexes), 2u);
+  EXPECT_EQ(unmatched_interior_quads(R.lattice, out.elements), 2u);
 }
 
 // Checks every property the pipeline promises on one mesh.
 void check_mesh(const MixedMesh& m, const VolumeReport& r) {
-  EXPECT_EQ(r.inverted, 0u);
+  EXPECT_EQ(r.stats.inverted, 0u);
   for (std::size_t c = 0; c < m.num_cells(); ++c) ASSERT_FALSE(cell_is_inverted(m, c)) << c;
   EXPECT_LT(r.volume_rel_gap, 1e-3);
-  EXPECT_NEAR(r.volume_mixed, r.volume_tets, 1e-3 * r.volume_tets);
+  EXPECT_NEAR(r.stats.volume, r.volume_tets, 1e-3 * r.volume_tets);
   // Each tet used once: TetGen's tets are those merged into elements, the absorbed slivers
   // and the tets left.
-  EXPECT_EQ(r.tets_in_elements + r.absorbed_slivers + r.cells[0], r.tets);
+  EXPECT_EQ(r.tets_in_elements + r.absorbed_slivers + r.stats.cells_per_kind[0], r.tets);
   // NC flags are those of the lead's definition.
   MixedMesh copy = m;
   flag_nonconformal_quads(copy);
   EXPECT_EQ(copy.nc_cell, m.nc_cell);
-  EXPECT_EQ(m.nc_cell.size(), r.nc_quads);
+  EXPECT_EQ(m.nc_cell.size(), r.stats.nonconformal_quads);
 }
 
 TEST(VolumePipeline, BoxLatticeBecomesAllHexes) {
@@ -336,15 +369,15 @@ TEST(VolumePipeline, BoxLatticeBecomesAllHexes) {
   VolumeReport r;
   const MixedMesh m = mesh_volume(s, VolumeOptions{}, &r);
   check_mesh(m, r);
-  EXPECT_EQ(r.cells[static_cast<int>(CellKind::Hex8)], 250u);
+  EXPECT_EQ(r.stats.cells_per_kind[static_cast<int>(CellKind::Hex8)], 250u);
   EXPECT_EQ(m.num_cells(), 250u);
-  EXPECT_DOUBLE_EQ(r.h_nbr, 100.0);
-  EXPECT_NEAR(r.q_mean, 1.0, 1e-9);
-  EXPECT_EQ(r.nc_quads, 0u);
+  EXPECT_DOUBLE_EQ(r.stats.h_nbr, 100.0);
+  EXPECT_NEAR(r.stats.q_mean, 1.0, 1e-9);
+  EXPECT_EQ(r.stats.nonconformal_quads, 0u);
   // Every boundary face became a quad: 2 * (10*5 + 10*5 + 5*5) squares.
   EXPECT_EQ(r.boundary_quads, 250u);
   EXPECT_EQ(r.boundary_triangles, 0u);
-  EXPECT_NEAR(r.volume_mixed, 2.0, 1e-12);
+  EXPECT_NEAR(r.stats.volume, 2.0, 1e-12);
   // Boundary quads keep the CAD faces: 50 on each y/z side, 25 on each x side.
   std::vector<int> per_face(7, 0);
   for (std::size_t f = 0; f < m.num_bfaces(); ++f) ++per_face[m.bface_cad_face[f]];
@@ -362,22 +395,22 @@ TEST(VolumePipeline, CylinderIsValidDeterministicAndMostlyHexes) {
   EXPECT_EQ(a.cell_nodes, b.cell_nodes);
   EXPECT_EQ(a.bface_nodes, b.bface_nodes);
   EXPECT_EQ(a.nc_cell, b.nc_cell);
-  EXPECT_GT(r1.h_vol, 70.0);
-  EXPECT_GT(r1.cells[static_cast<int>(CellKind::Wedge6)], 0u);
-  EXPECT_GT(r1.cells[static_cast<int>(CellKind::Pyramid5)], 0u);
+  EXPECT_GT(r1.stats.h_vol, 70.0);
+  EXPECT_GT(r1.stats.cells_per_kind[static_cast<int>(CellKind::Wedge6)], 0u);
+  EXPECT_GT(r1.stats.cells_per_kind[static_cast<int>(CellKind::Pyramid5)], 0u);
   // Without prisms and pyramids there are none, and no fewer hexes placed.
   VolumeOptions o;
   o.no_prisms = o.no_pyramids = true;
   VolumeReport r3;
   const MixedMesh c = mesh_volume(s, o, &r3);
   check_mesh(c, r3);
-  EXPECT_EQ(r3.cells[static_cast<int>(CellKind::Wedge6)], 0u);
-  EXPECT_EQ(r3.cells[static_cast<int>(CellKind::Pyramid5)], 0u);
+  EXPECT_EQ(r3.stats.cells_per_kind[static_cast<int>(CellKind::Wedge6)], 0u);
+  EXPECT_EQ(r3.stats.cells_per_kind[static_cast<int>(CellKind::Pyramid5)], 0u);
   // Counted before the volume-gap pass, which undoes more hexes when their unshared faces meet
   // tets rather than prisms and pyramids.
   const int hex = static_cast<int>(CellKind::Hex8);
-  EXPECT_EQ(r3.cells[hex] + r3.gap_undone[hex] + r3.nc_undone[hex],
-            r1.cells[hex] + r1.gap_undone[hex] + r1.nc_undone[hex]);
+  EXPECT_EQ(r3.stats.cells_per_kind[hex] + r3.gap_undone[hex] + r3.nc_undone[hex],
+            r1.stats.cells_per_kind[hex] + r1.gap_undone[hex] + r1.nc_undone[hex]);
 }
 
 TEST(VolumePipeline, BadOptionsAreErrors) {

@@ -53,9 +53,8 @@ MeshStats check_part(const std::string& path, double h, double min_sj) {
   EXPECT_EQ(v.tets_in_elements + v.absorbed_slivers + v.flipped_tets + v.flat_boundary_tets +
                 tet_cells - v.tets_from_flips,
             v.tets);
-  // The elements cover the tets: volume within 1e-3 (the non-planar quad faces' gap).
-  EXPECT_NEAR(st.volume, v.volume_mixed, 1e-9 * v.volume_mixed);
-  EXPECT_LT(v.volume_rel_gap, 1e-3);
+  // The cells (their exact volumes, from the statistics) cover TetGen's tets (summed in the
+  // pipeline before recombination): within 1e-3, the gap of twisted quad faces against tets.
   EXPECT_NEAR(st.volume, v.volume_tets, 1e-3 * v.volume_tets);
   return st;
 }

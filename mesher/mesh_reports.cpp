@@ -1,0 +1,171 @@
+// The reports of the mesher as JSON (nlohmann's to_json, one per report type) and as text.
+#include "mesher/mesh_reports.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+namespace hexfem {
+
+namespace {
+
+double vertices_per_second(const MeshReport& r) {
+  return r.total_seconds > 0 ? r.volume.stats.num_nodes / r.total_seconds : 0.0;
+}
+
+}  // namespace
+
+void to_json(nlohmann::json& j, const VolumeReport& r) {
+  j = nlohmann::json::object();
+  j["vertices"] = r.stats.num_nodes;
+  j["surface_vertices"] = r.surface_vertices;
+  j["interior_points"] = r.interior_points;
+  j["steiner_points"] = r.steiner_points;
+  if (r.frontal_points) j["frontal_points"] = r.frontal_points;
+  j["tets_from_tetgen"] = r.tets;
+  j["absorbed_slivers"] = r.absorbed_slivers;
+  j["tets_in_elements"] = r.tets_in_elements;
+  j["flat_boundary_tets"] = r.flat_boundary_tets;
+  j["dissolved_pyramids"] = r.dissolved_pyramids;
+  j["sliver_flips"] = r.sliver_flips;
+  j["flipped_tets"] = r.flipped_tets;
+  j["tets_from_flips"] = r.tets_from_flips;
+  j["slivers_left"] = r.slivers_left;
+  j["lifted_cells"] = r.lifted_cells;
+  nlohmann::json cells;
+  for (int k = 0; k < kNumCellKinds; ++k)
+    cells[kind_name(static_cast<CellKind>(k))] = r.stats.cells_per_kind[k];
+  j["cells"] = cells;
+  j["num_cells"] = r.stats.num_cells;
+  j["candidates"] = {{"hex8", r.hex_candidates},
+                     {"wedge6", r.prism_candidates},
+                     {"pyramid5", r.pyramid_candidates}};
+  j["h_nbr_percent"] = r.stats.h_nbr;
+  j["h_vol_percent"] = r.stats.h_vol;
+  j["q_mean"] = r.stats.q_mean;
+  j["q_min"] = r.stats.q_min;
+  j["interior_quads"] = r.stats.interior_quads;
+  j["nc_quads"] = r.stats.nonconformal_quads;
+  j["nc_percent"] = r.stats.nc_percent;
+  j["inverted"] = r.stats.inverted;
+  j["boundary_triangles"] = r.boundary_triangles;
+  j["boundary_quads"] = r.boundary_quads;
+  j["volume_tets"] = r.volume_tets;
+  j["volume_mixed"] = r.stats.volume;
+  j["volume_rel_gap"] = r.volume_rel_gap;
+  j["volume_elements_gap"] = r.volume_elements_gap;
+  j["volume_absorbed"] = r.volume_absorbed;
+  j["volume_gap_before_limit"] = r.volume_gap_before;
+  nlohmann::json undone;
+  for (int k = 0; k < kNumCellKinds; ++k)
+    if (r.gap_undone[k]) undone[kind_name(static_cast<CellKind>(k))] = r.gap_undone[k];
+  j["undone_for_volume_gap"] = undone.is_null() ? nlohmann::json::object() : undone;
+  nlohmann::json nc_undone;
+  for (int k = 0; k < kNumCellKinds; ++k)
+    if (r.nc_undone[k]) nc_undone[kind_name(static_cast<CellKind>(k))] = r.nc_undone[k];
+  j["nc_repair"] = {{"nc_faces_before", r.nc_faces_before_repair},
+                    {"nc_faces_after", r.nc_faces_after_repair},
+                    {"undone", nc_undone.is_null() ? nlohmann::json::object() : nc_undone},
+                    {"pyramids_added", r.nc_repair_pyramids},
+                    {"prisms_added", r.nc_repair_prisms}};
+  nlohmann::json stages = nlohmann::json::array();
+  for (const auto& s : r.stages)
+    stages.push_back({{"stage", s.name}, {"seconds", s.seconds}, {"cpu_seconds", s.cpu_seconds}});
+  j["stages"] = stages;
+  j["total_seconds"] = r.total_seconds;
+  j["total_cpu_seconds"] = r.total_cpu_seconds;
+  j["threads"] = r.threads;
+}
+
+std::string volume_report_text(const VolumeReport& r) {
+  char buf[512];
+  std::string s;
+  auto line = [&](const char* fmt, auto... args) {
+    std::snprintf(buf, sizeof buf, fmt, args...);
+    s += buf;
+    s += '\n';
+  };
+  line("vertices        %zu (surface %zu, interior %zu, steiner %zu)", r.stats.num_nodes,
+       r.surface_vertices, r.interior_points, r.steiner_points);
+  line("tets (tetgen)   %zu (%zu flat slivers on quad faces absorbed)", r.tets, r.absorbed_slivers);
+  line(
+      "sliver flips    %zu (%zu tets -> %zu), %zu slivers left; %zu flat tets on the surface "
+      "dropped",
+      r.sliver_flips, r.flipped_tets, r.tets_from_flips, r.slivers_left, r.flat_boundary_tets);
+  if (r.lifted_cells)
+    line("lifted          %zu slivers by moving one interior vertex each", r.lifted_cells);
+  line("elements        %zu: hex %zu, prism %zu, pyramid %zu, tet %zu", r.stats.num_cells,
+       r.stats.cells_per_kind[static_cast<int>(CellKind::Hex8)],
+       r.stats.cells_per_kind[static_cast<int>(CellKind::Wedge6)],
+       r.stats.cells_per_kind[static_cast<int>(CellKind::Pyramid5)],
+       r.stats.cells_per_kind[static_cast<int>(CellKind::Tet4)]);
+  line("H_nbr           %.2f %%", r.stats.h_nbr);
+  line("H_vol           %.2f %%", r.stats.h_vol);
+  line("Q (hex)         mean %.3f, min %.3f", r.stats.q_mean, r.stats.q_min);
+  line("NC              %.2f %% (%zu of %zu interior quads)", r.stats.nc_percent,
+       r.stats.nonconformal_quads, r.stats.interior_quads);
+  line("inverted        %zu", r.stats.inverted);
+  line(
+      "volume          tets %.9g, mixed %.9g, gap %.2e (elements - their tets %.4g, absorbed "
+      "slivers %.4g)",
+      r.volume_tets, r.stats.volume, r.volume_rel_gap, r.volume_elements_gap, r.volume_absorbed);
+  line("volume gap      %.2e before undoing %zu hex, %zu prism, %zu pyramid losing most",
+       std::abs(r.volume_gap_before), r.gap_undone[static_cast<int>(CellKind::Hex8)],
+       r.gap_undone[static_cast<int>(CellKind::Wedge6)],
+       r.gap_undone[static_cast<int>(CellKind::Pyramid5)]);
+  if (r.nc_faces_before_repair > 0)  // not with --no-nc-repair
+    line(
+        "nc repair       %zu -> %zu NC faces: undid %zu hex, %zu prism, %zu pyramid; made %zu "
+        "pyramids, %zu prisms",
+        r.nc_faces_before_repair, r.nc_faces_after_repair,
+        r.nc_undone[static_cast<int>(CellKind::Hex8)],
+        r.nc_undone[static_cast<int>(CellKind::Wedge6)],
+        r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids,
+        r.nc_repair_prisms);
+  for (const auto& st : r.stages)
+    line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);
+  line("time total                 %8.3f s wall %8.3f s cpu (%d threads)", r.total_seconds,
+       r.total_cpu_seconds, r.threads);
+  return s;
+}
+
+void to_json(nlohmann::json& j, const MeshReport& r) {
+  to_json(j, r.volume);
+  j["file_unit"] = r.file_unit;
+  j["length_unit"] = "mm";
+  j["cad_volume"] = r.cad_volume;
+  j["mesh_volume"] = r.mesh_volume;
+  j["volume_error"] = r.volume_error;
+  j["warnings"] = r.warnings;
+  j["surface_points"] = r.surface.points;
+  j["surface_triangles"] = r.surface.triangles;
+  nlohmann::json stages = nlohmann::json::array();
+  stages.push_back({{"name", "cad read"}, {"seconds", r.cad_seconds}});
+  for (const auto& [name, s] : r.surface.stage_seconds)
+    stages.push_back({{"name", "surface: " + name}, {"seconds", s}});
+  for (const auto& s : r.volume.stages)
+    stages.push_back({{"name", "volume: " + s.name}, {"seconds", s.seconds}});
+  j["pipeline_stages"] = stages;
+  j["total_seconds"] = r.total_seconds;
+  j["vertices_per_second"] = vertices_per_second(r);
+}
+
+std::string mesh_report_text(const MeshReport& r) {
+  std::string out = volume_report_text(r.volume);
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "volume error     %+.3e relative to the CAD volume %.6g mm^3 (file unit %s)\n"
+                "surface          %zu points, %zu triangles\n"
+                "time             %.3f s total (cad read %.3f s, surface",
+                r.volume_error, r.cad_volume, r.file_unit.c_str(), r.surface.points,
+                r.surface.triangles, r.total_seconds, r.cad_seconds);
+  out += buf;
+  double surface_total = 0;
+  for (const auto& [name, s] : r.surface.stage_seconds) surface_total += s;
+  std::snprintf(buf, sizeof buf, " %.3f s, volume %.3f s), %.0f vertices/s\n", surface_total,
+                r.volume.total_seconds, vertices_per_second(r));
+  out += buf;
+  return out;
+}
+
+}  // namespace hexfem
