@@ -85,10 +85,10 @@ std::size_t FaceField::background_triangles() const {
   return data_->tris.size();
 }
 
-FaceField::FaceField(const CadModel& cad, int f, const FaceBoundary& b, const EdgePoints& points,
-                     const SizeField& size)
-    : cad_(&cad), face_(f), data_(std::make_unique<Data>()) {
-  // Metric scaling of the parameter plane from a grid of samples.
+namespace {
+
+// Mean |t1|, |t2| over a 9 x 9 grid of samples of face f's parameter box.
+Vec2 metric_scale(const CadModel& cad, int f) {
   const auto bounds = cad.uv_bounds(f);
   double su = 0, sv = 0;
   int nu = 0, nv = 0;
@@ -102,17 +102,26 @@ FaceField::FaceField(const CadModel& cad, int f, const FaceBoundary& b, const Ed
       if (c > 0 && std::isfinite(c)) sv += c, ++nv;
     }
   }
-  scale_ = {nu > 0 ? su / nu : 1.0, nv > 0 ? sv / nv : 1.0};
+  return {nu > 0 ? su / nu : 1.0, nv > 0 ? sv / nv : 1.0};
+}
 
-  // Boundary data: which points carry Dirichlet values, and the values.
+// Boundary data: which boundary points carry Dirichlet values (a usable edge tangent), and the
+// values (cos 4θ, sin 4θ, h); every point carries its edge size.
+struct BoundaryValues {
+  std::vector<bool> dirichlet;
+  std::vector<std::array<double, 3>> value;
+  double hmean = 0, hmax = 0;
+};
+BoundaryValues boundary_values(const CadModel& cad, int f, const FaceBoundary& b,
+                               const EdgePoints& points, const SizeField& size) {
   const auto& ces = cad.coedges(f);
   const std::size_t nb = b.uv.size();
   auto usable = [&](int c) {
     const CoEdge& ce = ces[static_cast<std::size_t>(c)];
     return !ce.seam && !cad.edge_degenerate(ce.edge);
   };
-  std::vector<bool> dirichlet(nb, false);
-  std::vector<std::array<double, 3>> bvalue(nb, {1, 0, size.global()});
+  BoundaryValues bv{std::vector<bool>(nb, false),
+                    std::vector<std::array<double, 3>>(nb, {1, 0, size.global()})};
   for (std::size_t i = 0; i < nb; ++i) {
     const double h = points.size[static_cast<std::size_t>(b.node[i])];
     std::array<double, 2> z{0, 0};
@@ -136,22 +145,30 @@ FaceField::FaceField(const CadModel& cad, int f, const FaceBoundary& b, const Ed
     }
     const double len = std::hypot(z[0], z[1]);
     if (uses > 0 && len > 1e-6) {
-      dirichlet[i] = true;
-      bvalue[i] = {z[0] / len, z[1] / len, h};
+      bv.dirichlet[i] = true;
+      bv.value[i] = {z[0] / len, z[1] / len, h};
     } else {
-      bvalue[i][2] = h;
+      bv.value[i][2] = h;
     }
   }
+  double hsum = 0;
+  for (std::size_t i = 0; i < nb; ++i) hsum += bv.value[i][2];
+  bv.hmean = nb > 0 ? hsum / static_cast<double>(nb) : size.global();
+  for (std::size_t i = 0; i < nb; ++i) bv.hmax = std::max(bv.hmax, bv.value[i][2]);
+  return bv;
+}
 
-  // Background triangulation, in the scaled parameter plane.
-  CDT cdt;
-  std::vector<CDT::Vertex_handle> handles(nb);
-  for (std::size_t i = 0; i < nb; ++i) {
-    handles[i] = cdt.insert(CDT::Point(b.uv[i][0] * scale_[0], b.uv[i][1] * scale_[1]));
+// Background triangulation of the face's domain, in the scaled parameter plane: the boundary
+// points, refined to about bg_size.
+void triangulate_background(CDT& cdt, int f, const FaceBoundary& b, Vec2 scale, double bg_size) {
+  std::vector<CDT::Vertex_handle> handles(b.uv.size());
+  for (std::size_t i = 0; i < b.uv.size(); ++i) {
+    handles[i] = cdt.insert(CDT::Point(b.uv[i][0] * scale[0], b.uv[i][1] * scale[1]));
     if (handles[i]->info().index < 0) handles[i]->info().index = static_cast<int>(i);
   }
-  for (const auto& s : b.segments) {
-    auto va = handles[static_cast<std::size_t>(s[0])], vb = handles[static_cast<std::size_t>(s[1])];
+  for (const auto& seg : b.segments) {
+    auto va = handles[static_cast<std::size_t>(seg[0])],
+         vb = handles[static_cast<std::size_t>(seg[1])];
     if (va != vb) cdt.insert_constraint(va, vb);
   }
   if (cdt.dimension() < 2)
@@ -159,163 +176,196 @@ FaceField::FaceField(const CadModel& cad, int f, const FaceBoundary& b, const Ed
   mark_nesting_levels(cdt);
   for (auto fh = cdt.all_faces_begin(); fh != cdt.all_faces_end(); ++fh)
     fh->set_in_domain(!cdt.is_infinite(fh) && fh->info() % 2 == 1);
-  double hsum = 0;
-  for (std::size_t i = 0; i < nb; ++i) hsum += bvalue[i][2];
-  const double hmean = nb > 0 ? hsum / static_cast<double>(nb) : size.global();
-  const double area = std::max(cad.face_area(f), 1e-300);
-  // Coarser than the final mesh (the fields are smooth), capped at ~20k triangles per face.
-  const double bg_size = std::max(2.5 * hmean, std::sqrt(area / 10000.0));
   CGAL::refine_Delaunay_mesh_2(cdt, Criteria(0.125, bg_size), true);
+}
 
-  // Extract the domain; merge copies of one node (the two sides of a seam, a pole line).
-  Data& D = *data_;
+// The background vertices (uv, triangles) and their unknowns: copies of one boundary node (the
+// two sides of a seam, a pole line) share one.
+struct Domain {
+  std::vector<int> unknown;   // per vertex
+  std::vector<int> boundary;  // per vertex: boundary point index or -1
+  std::vector<bool> on_constraint;
+  int num_unknowns = 0;
+};
+Domain extract_domain(const CDT& cdt, const FaceBoundary& b, Vec2 scale, std::vector<Vec2>& uv,
+                      std::vector<std::array<int, 3>>& tris) {
+  Domain dom;
   std::unordered_map<int, int> node_unknown;
-  std::vector<int> vertex_boundary;      // boundary index or -1
-  std::vector<bool> vertex_on_boundary;  // has an incident constraint
   std::unordered_map<CDT::Vertex_handle, int> vid;
-  int nunk = 0;
-  std::vector<int> vertex_unknown;
   auto vertex_id = [&](CDT::Vertex_handle v) {
     auto it = vid.find(v);
     if (it != vid.end()) return it->second;
-    const int id = static_cast<int>(D.uv.size());
+    const int id = static_cast<int>(uv.size());
     vid.emplace(v, id);
-    D.uv.push_back({v->point().x() / scale_[0], v->point().y() / scale_[1]});
-    vertex_boundary.push_back(v->info().index);
-    vertex_on_boundary.push_back(cdt.are_there_incident_constraints(v));
+    uv.push_back({v->point().x() / scale[0], v->point().y() / scale[1]});
+    dom.boundary.push_back(v->info().index);
+    dom.on_constraint.push_back(cdt.are_there_incident_constraints(v));
     int u = -1;
     if (v->info().index >= 0) {
       const int node = b.node[static_cast<std::size_t>(v->info().index)];
-      auto [nit, inserted] = node_unknown.emplace(node, nunk);
-      if (inserted) ++nunk;
+      auto [nit, inserted] = node_unknown.emplace(node, dom.num_unknowns);
+      if (inserted) ++dom.num_unknowns;
       u = nit->second;
     } else {
-      u = nunk++;
+      u = dom.num_unknowns++;
     }
-    vertex_unknown.push_back(u);
+    dom.unknown.push_back(u);
     return id;
   };
   for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
     if (!fh->is_in_domain()) continue;
-    D.tris.push_back(
-        {vertex_id(fh->vertex(0)), vertex_id(fh->vertex(1)), vertex_id(fh->vertex(2))});
+    tris.push_back({vertex_id(fh->vertex(0)), vertex_id(fh->vertex(1)), vertex_id(fh->vertex(2))});
   }
-  const std::size_t nvert = D.uv.size();
+  return dom;
+}
 
-  // Dirichlet data per unknown; points the mesher put on a constraint take the values of the
-  // boundary segment under them.
-  std::vector<int> fixed(static_cast<std::size_t>(nunk), 0);
-  std::vector<std::array<double, 3>> uval(static_cast<std::size_t>(nunk), {0, 0, 0});
-  for (std::size_t v = 0; v < nvert; ++v) {
-    const int u = vertex_unknown[v];
-    const int bi = vertex_boundary[v];
+// Dirichlet data per unknown; points the mesher put on a constraint take the values of the
+// boundary segment under them.
+struct Dirichlet {
+  std::vector<int> fixed;
+  std::vector<std::array<double, 3>> value;
+};
+Dirichlet dirichlet_data(const Domain& dom, const std::vector<Vec2>& uv, const FaceBoundary& b,
+                         const BoundaryValues& bv, Vec2 scale, double bg_size) {
+  const auto nunk = static_cast<std::size_t>(dom.num_unknowns);
+  Dirichlet dd{std::vector<int>(nunk, 0), std::vector<std::array<double, 3>>(nunk, {0, 0, 0})};
+  for (std::size_t v = 0; v < uv.size(); ++v) {
+    const auto u = static_cast<std::size_t>(dom.unknown[v]);
+    const int bi = dom.boundary[v];
     if (bi >= 0) {
-      if (dirichlet[static_cast<std::size_t>(bi)]) {
-        fixed[static_cast<std::size_t>(u)] = 1;
-        uval[static_cast<std::size_t>(u)] = bvalue[static_cast<std::size_t>(bi)];
+      if (bv.dirichlet[static_cast<std::size_t>(bi)]) {
+        dd.fixed[u] = 1;
+        dd.value[u] = bv.value[static_cast<std::size_t>(bi)];
       }
       continue;
     }
-    if (!vertex_on_boundary[v]) continue;
+    if (!dom.on_constraint[v]) continue;
     // A mesher point on a constraint: the boundary segment under it.
-    const Vec2 p = D.uv[v];
+    const Vec2 p = uv[v];
     double best = std::numeric_limits<double>::infinity();
     std::size_t best_s = 0;
     double best_w = 0;
-    for (std::size_t s = 0; s < b.segments.size(); ++s) {
-      const Vec2& a = b.uv[static_cast<std::size_t>(b.segments[s][0])];
-      const Vec2& c = b.uv[static_cast<std::size_t>(b.segments[s][1])];
-      const double ax = (c[0] - a[0]) * scale_[0], ay = (c[1] - a[1]) * scale_[1];
-      const double px = (p[0] - a[0]) * scale_[0], py = (p[1] - a[1]) * scale_[1];
+    for (std::size_t k = 0; k < b.segments.size(); ++k) {
+      const Vec2& a = b.uv[static_cast<std::size_t>(b.segments[k][0])];
+      const Vec2& c = b.uv[static_cast<std::size_t>(b.segments[k][1])];
+      const double ax = (c[0] - a[0]) * scale[0], ay = (c[1] - a[1]) * scale[1];
+      const double px = (p[0] - a[0]) * scale[0], py = (p[1] - a[1]) * scale[1];
       const double l2 = ax * ax + ay * ay;
       const double w = l2 > 0 ? std::clamp((px * ax + py * ay) / l2, 0.0, 1.0) : 0.0;
       const double d = std::hypot(px - w * ax, py - w * ay);
-      if (d < best) best = d, best_s = s, best_w = w;
+      if (d < best) best = d, best_s = k, best_w = w;
     }
     if (b.segments.empty() || best > 1e-9 * bg_size) continue;
     const auto& seg = b.segments[best_s];
     const auto i0 = static_cast<std::size_t>(seg[0]), i1 = static_cast<std::size_t>(seg[1]);
-    if (dirichlet[i0] && dirichlet[i1]) {
-      fixed[static_cast<std::size_t>(u)] = 1;
+    if (bv.dirichlet[i0] && bv.dirichlet[i1]) {
+      dd.fixed[u] = 1;
       for (int k = 0; k < 3; ++k)
-        uval[static_cast<std::size_t>(u)][k] =
-            (1 - best_w) * bvalue[i0][k] + best_w * bvalue[i1][k];
+        dd.value[u][k] = (1 - best_w) * bv.value[i0][k] + best_w * bv.value[i1][k];
     }
   }
+  return dd;
+}
 
-  // P1 Laplace (cotangent weights in the scaled plane), Dirichlet rows eliminated.
+// P1 Laplace (cotangent weights in the scaled plane) for the three fields, Dirichlet rows
+// eliminated; the value per unknown.
+std::vector<std::array<double, 3>> solve_laplace(const std::vector<Vec2>& uv,
+                                                 const std::vector<std::array<int, 3>>& tris,
+                                                 const Domain& dom, const Dirichlet& dd, Vec2 scale,
+                                                 double hmean) {
+  const int nunk = dom.num_unknowns;
   std::vector<int> free_index(static_cast<std::size_t>(nunk), -1);
   int nfree = 0, nfixed = 0;
   for (int u = 0; u < nunk; ++u) {
-    if (fixed[static_cast<std::size_t>(u)])
+    if (dd.fixed[static_cast<std::size_t>(u)])
       ++nfixed;
     else
       free_index[static_cast<std::size_t>(u)] = nfree++;
   }
-  std::vector<std::array<double, 3>> result = uval;
+  std::vector<std::array<double, 3>> result = dd.value;
   if (nfixed == 0) {
     // No boundary tangent anywhere (a sphere, a torus): a constant field along the
     // parametrisation, and the mean boundary size.
     for (auto& r : result) r = {1, 0, hmean};
-  } else if (nfree > 0) {
-    std::vector<Eigen::Triplet<double>> trips;
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nfree, 3);
-    for (const auto& t : D.tris) {
-      std::array<std::array<double, 2>, 3> q;
-      for (int k = 0; k < 3; ++k)
-        q[k] = {D.uv[static_cast<std::size_t>(t[k])][0] * scale_[0],
-                D.uv[static_cast<std::size_t>(t[k])][1] * scale_[1]};
-      const double area2 =
-          (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
-      if (!(std::abs(area2) > 0)) continue;
-      for (int k = 0; k < 3; ++k) {
-        const int i = (k + 1) % 3, j = (k + 2) % 3;
-        // Cotangent of the angle at k, weight of edge (i, j).
-        const double ex1 = q[i][0] - q[k][0], ey1 = q[i][1] - q[k][1];
-        const double ex2 = q[j][0] - q[k][0], ey2 = q[j][1] - q[k][1];
-        const double w = 0.5 * (ex1 * ex2 + ey1 * ey2) / std::abs(area2);
-        const int ui = vertex_unknown[static_cast<std::size_t>(t[i])];
-        const int uj = vertex_unknown[static_cast<std::size_t>(t[j])];
-        if (ui == uj) continue;
-        const int fi = free_index[static_cast<std::size_t>(ui)],
-                  fj = free_index[static_cast<std::size_t>(uj)];
-        if (fi >= 0) trips.emplace_back(fi, fi, w);
-        if (fj >= 0) trips.emplace_back(fj, fj, w);
-        if (fi >= 0 && fj >= 0) {
-          trips.emplace_back(fi, fj, -w);
-          trips.emplace_back(fj, fi, -w);
-        } else if (fi >= 0) {
-          for (int c = 0; c < 3; ++c) rhs(fi, c) += w * uval[static_cast<std::size_t>(uj)][c];
-        } else if (fj >= 0) {
-          for (int c = 0; c < 3; ++c) rhs(fj, c) += w * uval[static_cast<std::size_t>(ui)][c];
-        }
+    return result;
+  }
+  if (nfree == 0) return result;
+  std::vector<Eigen::Triplet<double>> trips;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nfree, 3);
+  for (const auto& t : tris) {
+    std::array<std::array<double, 2>, 3> q;
+    for (int k = 0; k < 3; ++k)
+      q[k] = {uv[static_cast<std::size_t>(t[k])][0] * scale[0],
+              uv[static_cast<std::size_t>(t[k])][1] * scale[1]};
+    const double area2 =
+        (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
+    if (!(std::abs(area2) > 0)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      // Cotangent of the angle at k, weight of edge (i, j).
+      const double ex1 = q[i][0] - q[k][0], ey1 = q[i][1] - q[k][1];
+      const double ex2 = q[j][0] - q[k][0], ey2 = q[j][1] - q[k][1];
+      const double w = 0.5 * (ex1 * ex2 + ey1 * ey2) / std::abs(area2);
+      const int ui = dom.unknown[static_cast<std::size_t>(t[i])];
+      const int uj = dom.unknown[static_cast<std::size_t>(t[j])];
+      if (ui == uj) continue;
+      const int fi = free_index[static_cast<std::size_t>(ui)],
+                fj = free_index[static_cast<std::size_t>(uj)];
+      if (fi >= 0) trips.emplace_back(fi, fi, w);
+      if (fj >= 0) trips.emplace_back(fj, fj, w);
+      if (fi >= 0 && fj >= 0) {
+        trips.emplace_back(fi, fj, -w);
+        trips.emplace_back(fj, fi, -w);
+      } else if (fi >= 0) {
+        for (int c = 0; c < 3; ++c) rhs(fi, c) += w * dd.value[static_cast<std::size_t>(uj)][c];
+      } else if (fj >= 0) {
+        for (int c = 0; c < 3; ++c) rhs(fj, c) += w * dd.value[static_cast<std::size_t>(ui)][c];
       }
     }
-    // A tiny diagonal shift keeps unknowns cut off from every Dirichlet point solvable.
-    for (int i = 0; i < nfree; ++i) trips.emplace_back(i, i, 1e-12);
-    Eigen::SparseMatrix<double> A(nfree, nfree);
-    A.setFromTriplets(trips.begin(), trips.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-    Eigen::MatrixXd x;
-    if (solver.info() == Eigen::Success) x = solver.solve(rhs);
-    const bool solved = solver.info() == Eigen::Success && x.allFinite();
-    for (int u = 0; u < nunk; ++u) {
-      const int fi = free_index[static_cast<std::size_t>(u)];
-      if (fi < 0) continue;
-      if (solved)
-        result[static_cast<std::size_t>(u)] = {x(fi, 0), x(fi, 1), x(fi, 2)};
-      else
-        result[static_cast<std::size_t>(u)] = {1, 0, hmean};
-    }
   }
-  D.value.resize(nvert);
-  for (std::size_t v = 0; v < nvert; ++v) {
-    auto val = result[static_cast<std::size_t>(vertex_unknown[v])];
-    if (!(val[2] > 0)) val[2] = hmean;
+  // A tiny diagonal shift keeps unknowns cut off from every Dirichlet point solvable.
+  for (int i = 0; i < nfree; ++i) trips.emplace_back(i, i, 1e-12);
+  Eigen::SparseMatrix<double> A(nfree, nfree);
+  A.setFromTriplets(trips.begin(), trips.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  Eigen::MatrixXd x;
+  if (solver.info() == Eigen::Success) x = solver.solve(rhs);
+  const bool solved = solver.info() == Eigen::Success && x.allFinite();
+  for (int u = 0; u < nunk; ++u) {
+    const int fi = free_index[static_cast<std::size_t>(u)];
+    if (fi < 0) continue;
+    if (solved)
+      result[static_cast<std::size_t>(u)] = {x(fi, 0), x(fi, 1), x(fi, 2)};
+    else
+      result[static_cast<std::size_t>(u)] = {1, 0, hmean};
+  }
+  return result;
+}
+
+}  // namespace
+
+FaceField::FaceField(const CadModel& cad, int f, const FaceBoundary& b, const EdgePoints& points,
+                     const SizeField& size)
+    : cad_(&cad), face_(f), data_(std::make_unique<Data>()) {
+  scale_ = metric_scale(cad, f);
+  const BoundaryValues bv = boundary_values(cad, f, b, points, size);
+  // Coarser than the final mesh (the fields are smooth), capped at ~20k triangles per face.
+  const double area = std::max(cad.face_area(f), 1e-300);
+  const double bg_size = std::max(2.5 * bv.hmean, std::sqrt(area / 10000.0));
+  CDT cdt;
+  triangulate_background(cdt, f, b, scale_, bg_size);
+  Data& D = *data_;
+  const Domain dom = extract_domain(cdt, b, scale_, D.uv, D.tris);
+  const Dirichlet dd = dirichlet_data(dom, D.uv, b, bv, scale_, bg_size);
+  const auto result = solve_laplace(D.uv, D.tris, dom, dd, scale_, bv.hmean);
+  D.value.resize(D.uv.size());
+  for (std::size_t v = 0; v < D.uv.size(); ++v) {
+    auto val = result[static_cast<std::size_t>(dom.unknown[v])];
+    if (!(val[2] > 0)) val[2] = bv.hmean;
     val[2] = std::min(val[2], size.surface_bound(f, D.uv[v]));
     D.value[v] = val;
   }
-
+  // Lookup of the background triangle at a point.
   std::vector<std::pair<BBox, int>> boxes;
   boxes.reserve(D.tris.size());
   for (std::size_t t = 0; t < D.tris.size(); ++t) {
@@ -327,14 +377,12 @@ FaceField::FaceField(const CadModel& cad, int f, const FaceBoundary& b, const Ed
                        static_cast<int>(t));
   }
   D.tree = Tree(boxes.begin(), boxes.end());
-
-  double hmax = 0;
-  for (std::size_t i = 0; i < nb; ++i) hmax = std::max(hmax, bvalue[i][2]);
+  // The boundary points finer than the rest, for the gradation from them.
   std::vector<std::pair<P3, int>> fine_pts;
-  D.fine_min = hmax;
-  for (std::size_t i = 0; i < nb; ++i) {
-    const double h = bvalue[i][2];
-    if (h >= 0.9 * hmax) continue;
+  D.fine_min = bv.hmax;
+  for (std::size_t i = 0; i < b.uv.size(); ++i) {
+    const double h = bv.value[i][2];
+    if (h >= 0.9 * bv.hmax) continue;
     const Vec3& x = points.xyz[static_cast<std::size_t>(b.node[i])];
     fine_pts.emplace_back(P3(x[0], x[1], x[2]), static_cast<int>(D.fine.size()));
     D.fine.emplace_back(P3(x[0], x[1], x[2]), h);

@@ -1,7 +1,6 @@
 #include "mesher/surface_pipeline.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -15,6 +14,7 @@
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/progress.hpp"
 #include "mesher/size_field.hpp"
+#include "mesher/stage_timer.hpp"
 #include "mesher/surface_points.hpp"
 #include "mesher/surface_triangulation.hpp"
 #include "mesher/vec3.hpp"
@@ -24,11 +24,6 @@ namespace hexfem {
 namespace {
 
 using v3::cross;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // Runs body(i) for i in [0, n) on all threads; the first exception is rethrown afterwards.
 template <class Body>
@@ -172,157 +167,127 @@ double estimate_surface_points(const CadModel& cad, const SurfaceOptions& option
 
 namespace {
 
-SurfaceMesh mesh_surface_once(const CadModel& cad, const SurfaceOptions& options,
-                              SurfaceReport& rep) {
-  rep = SurfaceReport{};
-  rep.curvature_used = options.curvature;
-  if (!(options.k > 0 && options.k < 1)) throw Error("the packing factor k must be in (0, 1)");
-
-  require_manifold_solids(cad);
-  auto t0 = Clock::now();
-  const SizeField size(cad, size_options(options));
-  rep.estimated_points = estimate_surface_points(cad, options);
-  if (rep.estimated_points > options.max_points && !options.force) {
-    char msg[200];
-    std::snprintf(
-        msg, sizeof msg,
-        "h = %g gives about %.3g surface points (more than %.3g); use a larger h or --force",
-        options.h, rep.estimated_points, options.max_points);
-    throw Error(msg);
-  }
-  rep.stage_seconds.emplace_back("size field", seconds_since(t0));
-
-  t0 = Clock::now();
-  show_progress("surface mesh: edge points");
-  const EdgePoints edges = discretise_edges(cad, size);
+// What the surface stages hand on, per face of a solid (index k into `faces`).
+struct FaceWork {
   std::vector<int> faces;  // faces of solids, in id order
+  std::vector<FaceBoundary> boundary;
+  std::vector<double> budget;   // the packing's point budget
+  std::vector<bool> collapsed;  // boundary of fewer than three distinct nodes: not meshed
+  std::vector<std::optional<FaceField>> field;
+  std::vector<FacePoints> pts;
+  std::vector<FaceTriangles> tris;
+  std::size_t size() const { return faces.size(); }
+};
+
+void throw_if_too_many(double points, const char* what, const SurfaceOptions& o) {
+  if (points <= o.max_points || o.force) return;
+  char msg[240];
+  std::snprintf(msg, sizeof msg,
+                "h = %g%s gives about %.3g surface points (more than %.3g); use a larger h or "
+                "--force",
+                o.h, what, points, o.max_points);
+  throw Error(msg);
+}
+
+// Stage 2: the edge points, each face's boundary, and its point budget. A second estimate from
+// the sizes the edges actually got (curvature, narrow faces, vertex sizes): area over the mean
+// boundary size squared per face. The packing budget of a face is a few times what its finest
+// boundary size would give.
+FaceWork face_boundaries(const CadModel& cad, const SizeField& size, const EdgePoints& edges,
+                         const SurfaceOptions& options) {
+  FaceWork w;
   for (int f = 1; f <= cad.num_faces(); ++f)
-    if (!cad.solids_of_face(f).empty()) faces.push_back(f);
-  const int nf = static_cast<int>(faces.size());
-  std::vector<FaceBoundary> boundary(static_cast<std::size_t>(nf));
-  for (int i = 0; i < nf; ++i)
-    boundary[static_cast<std::size_t>(i)] =
-        face_boundary(cad, faces[static_cast<std::size_t>(i)], edges);
-  rep.edge_points = edges.xyz.size();
-  // Second estimate, from the sizes the edges actually got (curvature, narrow faces, vertex
-  // sizes): area over the mean boundary size squared per face. The packing budget of a face
-  // is a few times what its finest boundary size would give.
-  std::vector<double> budget(static_cast<std::size_t>(nf));
+    if (!cad.solids_of_face(f).empty()) w.faces.push_back(f);
+  const std::size_t nf = w.size();
+  w.boundary.resize(nf);
+  w.budget.resize(nf);
+  w.collapsed.assign(nf, false);
   double refined = 0;
-  for (int i = 0; i < nf; ++i) {
-    const auto k = static_cast<std::size_t>(i);
+  for (std::size_t k = 0; k < nf; ++k) {
+    w.boundary[k] = face_boundary(cad, w.faces[k], edges);
     double hmin = size.global(), hsum = 0;
-    for (int n : boundary[k].node) {
+    for (int n : w.boundary[k].node) {
       const double h = edges.size[static_cast<std::size_t>(n)];
       hmin = std::min(hmin, h);
       hsum += h;
     }
-    const double hmean = boundary[k].node.empty()
+    const double hmean = w.boundary[k].node.empty()
                              ? size.global()
-                             : hsum / static_cast<double>(boundary[k].node.size());
-    const double area = cad.face_area(faces[k]);
+                             : hsum / static_cast<double>(w.boundary[k].node.size());
+    const double area = cad.face_area(w.faces[k]);
     refined += area / (hmean * hmean);
-    budget[k] = std::min(4 * area / (hmin * hmin) + 1e4, 2.5e8);
+    w.budget[k] = std::min(4 * area / (hmin * hmin) + 1e4, 2.5e8);
+    // A face whose boundary collapsed to fewer than three nodes (all its edges micro edges)
+    // has no area to mesh; its neighbours close over it.
+    const std::set<int> distinct(w.boundary[k].node.begin(), w.boundary[k].node.end());
+    w.collapsed[k] = distinct.size() < 3;
   }
-  if (refined > options.max_points && !options.force) {
-    char msg[240];
-    std::snprintf(msg, sizeof msg,
-                  "h = %g with the curvature and feature sizes gives about %.3g surface points "
-                  "(more than %.3g); use a larger h or --force",
-                  options.h, refined, options.max_points);
-    throw Error(msg);
-  }
-  // A face whose boundary collapsed to fewer than three nodes (all its edges micro edges)
-  // has no area to mesh; its neighbours close over it.
-  std::vector<bool> collapsed(static_cast<std::size_t>(nf), false);
-  for (std::size_t k = 0; k < collapsed.size(); ++k) {
-    std::set<int> distinct(boundary[k].node.begin(), boundary[k].node.end());
-    collapsed[k] = distinct.size() < 3;
-  }
-  rep.stage_seconds.emplace_back("edge points", seconds_since(t0));
+  throw_if_too_many(refined, " with the curvature and feature sizes", options);
+  return w;
+}
 
-  t0 = Clock::now();
-  show_progress("surface mesh: cross field");
-  std::vector<std::optional<FaceField>> field(static_cast<std::size_t>(nf));
-  parallel_for(nf, [&](int i) {
+// Stage 5: each face triangulated from its points. A face with no interior point near two of
+// its edges may join them by a diagonal that a neighbouring face sharing both edges draws too
+// (two half cylinders of a small hole): the edge would be used four times. Such faces get a
+// point in the middle of the diagonal.
+void triangulate_faces(const CadModel& cad, const EdgePoints& edges, FaceWork& w) {
+  w.tris.resize(w.size());
+  parallel_for(static_cast<int>(w.size()), [&](int i) {
     const auto k = static_cast<std::size_t>(i);
-    if (!collapsed[k]) field[k].emplace(cad, faces[k], boundary[k], edges, size);
+    if (!w.collapsed[k])
+      w.tris[k] = triangulate_face(w.faces[k], w.boundary[k], w.pts[k], edges, w.field[k]->scale());
   });
-  for (const auto& fl : field)
-    if (fl) rep.background_triangles += fl->background_triangles();
-  rep.stage_seconds.emplace_back("cross field", seconds_since(t0));
-
-  t0 = Clock::now();
-  show_progress("surface mesh: packing of parallelograms");
-  std::vector<FacePoints> pts(static_cast<std::size_t>(nf));
-  parallel_for(nf, [&](int i) {
-    const auto k = static_cast<std::size_t>(i);
-    PackingOptions po;
-    po.k = options.k;
-    po.budget = static_cast<std::size_t>(budget[k]);
-    if (!collapsed[k]) pts[k] = pack_face(cad, *field[k], boundary[k], edges, po);
-  });
-  for (const auto& p : pts) rep.candidates += p.candidates;
-  rep.stage_seconds.emplace_back("packing", seconds_since(t0));
-
-  t0 = Clock::now();
-  show_progress("surface mesh: triangulation");
-  std::vector<FaceTriangles> tris(static_cast<std::size_t>(nf));
-  parallel_for(nf, [&](int i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!collapsed[k])
-      tris[k] = triangulate_face(faces[k], boundary[k], pts[k], edges, field[k]->scale());
-  });
-  // A face with no interior point near two of its edges may join them by a diagonal that a
-  // neighbouring face sharing both edges draws too (two half cylinders of a small hole): the
-  // edge would be used four times. Such faces get a point in the middle of the diagonal.
   for (int round = 0; round < 4; ++round) {
-    const auto split = shared_diagonals(boundary, pts, tris);
+    const auto split = shared_diagonals(w.boundary, w.pts, w.tris);
     if (split.empty()) break;
-    std::vector<int> redo;
+    std::vector<std::size_t> redo;
     for (const auto& [k, uv] : split) {
-      if (!cad.contains(faces[k], uv)) continue;
-      pts[k].uv.push_back(uv);
-      pts[k].xyz.push_back(cad.point(faces[k], uv));
-      if (redo.empty() || redo.back() != static_cast<int>(k)) redo.push_back(static_cast<int>(k));
+      if (!cad.contains(w.faces[k], uv)) continue;
+      w.pts[k].uv.push_back(uv);
+      w.pts[k].xyz.push_back(cad.point(w.faces[k], uv));
+      if (redo.empty() || redo.back() != k) redo.push_back(k);
     }
     if (redo.empty()) break;
-    for (int k : redo)
-      tris[static_cast<std::size_t>(k)] = triangulate_face(
-          faces[static_cast<std::size_t>(k)], boundary[static_cast<std::size_t>(k)],
-          pts[static_cast<std::size_t>(k)], edges, field[static_cast<std::size_t>(k)]->scale());
+    for (std::size_t k : redo)
+      w.tris[k] = triangulate_face(w.faces[k], w.boundary[k], w.pts[k], edges, w.field[k]->scale());
   }
-  rep.stage_seconds.emplace_back("triangulation", seconds_since(t0));
+}
 
-  // Assembly: edge nodes first, then each face's used interior points in face order.
-  t0 = Clock::now();
-  SurfaceMesh out;
-  MixedMesh& m = out.mesh;
+// Assembly: edge nodes first, then each face's used interior points in face order; the owning
+// face (index into w.faces, or -1) and parameters of every node.
+struct Owners {
+  std::vector<int> face;
+  std::vector<Vec2> uv;
+};
+Owners assemble_triangles(const CadModel& cad, const EdgePoints& edges, const FaceWork& w,
+                          MixedMesh& m, SurfaceReport& rep) {
   m.nodes = edges.xyz;
   const std::size_t nedge = edges.xyz.size();
-  std::vector<int> owner_face(nedge, -1);  // index into faces
-  std::vector<Vec2> owner_uv(nedge);
-  for (int i = 0; i < nf; ++i) {
-    const auto& b = boundary[static_cast<std::size_t>(i)];
+  Owners own{std::vector<int>(nedge, -1), std::vector<Vec2>(nedge)};
+  for (std::size_t k = 0; k < w.size(); ++k) {
+    const auto& b = w.boundary[k];
     for (std::size_t p = 0; p < b.uv.size(); ++p) {
       const auto n = static_cast<std::size_t>(b.node[p]);
-      if (owner_face[n] < 0 && !collapsed[static_cast<std::size_t>(i)])
-        owner_face[n] = i, owner_uv[n] = b.uv[p];
+      if (own.face[n] < 0 && !w.collapsed[k])
+        own.face[n] = static_cast<int>(k), own.uv[n] = b.uv[p];
     }
   }
-  for (int i = 0; i < nf; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    const int f = faces[k];
-    const int nb = static_cast<int>(boundary[k].uv.size());
-    std::vector<int> global(pts[k].uv.size(), -1);
-    for (std::size_t j = 0; j < pts[k].uv.size(); ++j) {
-      if (!tris[k].interior_used[j]) continue;
+  for (std::size_t k = 0; k < w.size(); ++k) {
+    const int f = w.faces[k];
+    const auto& bnode = w.boundary[k].node;
+    const int nb = static_cast<int>(w.boundary[k].uv.size());
+    std::vector<int> global(w.pts[k].uv.size(), -1);
+    for (std::size_t j = 0; j < w.pts[k].uv.size(); ++j) {
+      if (!w.tris[k].interior_used[j]) continue;
       global[j] = static_cast<int>(m.nodes.size());
-      m.nodes.push_back(pts[k].xyz[j]);
-      owner_face.push_back(i);
-      owner_uv.push_back(pts[k].uv[j]);
+      m.nodes.push_back(w.pts[k].xyz[j]);
+      own.face.push_back(static_cast<int>(k));
+      own.uv.push_back(w.pts[k].uv[j]);
     }
-    const bool rev = cad.face_reversed(f);
+    auto node_of = [&](int id) {
+      return id < nb ? bnode[static_cast<std::size_t>(id)]
+                     : global[static_cast<std::size_t>(id - nb)];
+    };
     // Two triangles on the same three nodes (a fold where a ring around an apex or pole is
     // too small for the size, seen from both sides of the seam) cancel each other.
     std::map<std::array<int, 3>, int> count;
@@ -330,49 +295,48 @@ SurfaceMesh mesh_surface_once(const CadModel& cad, const SurfaceOptions& options
       std::array<int, 3> g;
       for (int c = 0; c < 3; ++c) {
         const int id = t[static_cast<std::size_t>(c)];
-        g[static_cast<std::size_t>(c)] =
-            id < nb ? boundary[k].node[static_cast<std::size_t>(id)] : -1 - id;
+        g[static_cast<std::size_t>(c)] = id < nb ? bnode[static_cast<std::size_t>(id)] : -1 - id;
       }
       std::sort(g.begin(), g.end());
       return g;
     };
-    for (const auto& t : tris[k].triangles) ++count[key_of(t)];
-    for (const auto& t : tris[k].triangles) {
+    for (const auto& t : w.tris[k].triangles) ++count[key_of(t)];
+    const bool rev = cad.face_reversed(f);
+    for (const auto& t : w.tris[k].triangles) {
       if (count[key_of(t)] > 1) continue;
-      std::array<int, 3> g;
-      for (int c = 0; c < 3; ++c)
-        g[static_cast<std::size_t>(c)] =
-            t[static_cast<std::size_t>(c)] < nb
-                ? boundary[k].node[static_cast<std::size_t>(t[static_cast<std::size_t>(c)])]
-                : global[static_cast<std::size_t>(t[static_cast<std::size_t>(c)] - nb)];
+      std::array<int, 3> g{node_of(t[0]), node_of(t[1]), node_of(t[2])};
       if (rev) std::swap(g[1], g[2]);
       m.add_bface(g[0], g[1], g[2], -1, f);
     }
-    rep.flips += tris[k].flips;
+    rep.flips += w.tris[k].flips;
   }
+  return own;
+}
 
-  // Per node: the frame of its owning face there, n outward, and the size.
-  const std::size_t nn = m.nodes.size();
+// Per node: the frame of its owning face there, n outward, and the size.
+void node_frames(const CadModel& cad, const SizeField& size, const EdgePoints& edges,
+                 const FaceWork& w, const Owners& own, SurfaceMesh& out) {
+  const std::size_t nn = out.mesh.nodes.size(), nedge = edges.xyz.size();
   out.frame.resize(nn);
   out.size.resize(nn);
   out.on_edge.assign(nn, false);
   for (std::size_t n = 0; n < nn; ++n) {
     out.on_edge[n] = n < nedge;
-    if (owner_face[n] < 0) {  // a vertex of no meshed face (cannot happen for solids)
+    if (own.face[n] < 0) {  // a vertex of no meshed face (cannot happen for solids)
       out.frame[n] = {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
       out.size[n] = size.global();
       continue;
     }
-    const auto k = static_cast<std::size_t>(owner_face[n]);
-    const int f = faces[k];
-    Vec2 uv = owner_uv[n];
-    Frame fr = field[k]->frame(uv);
+    const auto k = static_cast<std::size_t>(own.face[n]);
+    const int f = w.faces[k];
+    const Vec2 uv = own.uv[n];
+    Frame fr = w.field[k]->frame(uv);
     // At a pole or apex the tangent plane is undefined: take the frame just inside the face.
     const auto bd = cad.uv_bounds(f);
     const Vec2 mid{0.5 * (bd[0] + bd[1]), 0.5 * (bd[2] + bd[3])};
     for (double step : {1e-6, 1e-4, 1e-2}) {
       if (fr.ok) break;
-      fr = field[k]->frame({uv[0] + step * (mid[0] - uv[0]), uv[1] + step * (mid[1] - uv[1])});
+      fr = w.field[k]->frame({uv[0] + step * (mid[0] - uv[0]), uv[1] + step * (mid[1] - uv[1])});
     }
     Vec3 nrm = fr.ok ? fr.n : Vec3{0, 0, 1};
     Vec3 d1 = fr.ok ? fr.d1 : Vec3{1, 0, 0};
@@ -380,14 +344,67 @@ SurfaceMesh mesh_surface_once(const CadModel& cad, const SurfaceOptions& options
     out.frame[n] = {d1, cross(nrm, d1), nrm};
     out.size[n] = n < nedge ? edges.size[n] : fr.h;
   }
+}
+
+SurfaceMesh mesh_surface_once(const CadModel& cad, const SurfaceOptions& options,
+                              SurfaceReport& rep) {
+  rep = SurfaceReport{};
+  rep.curvature_used = options.curvature;
+  if (!(options.k > 0 && options.k < 1)) throw Error("the packing factor k must be in (0, 1)");
+  require_manifold_solids(cad);
+  StageTimer timer;
+  auto lap = [&](const char* name) {
+    rep.stage_seconds.emplace_back(name, timer.lap(name).seconds);
+  };
+  const SizeField size(cad, size_options(options));
+  rep.estimated_points = estimate_surface_points(cad, options);
+  throw_if_too_many(rep.estimated_points, "", options);
+  lap("size field");
+
+  show_progress("surface mesh: edge points");
+  const EdgePoints edges = discretise_edges(cad, size);
+  FaceWork w = face_boundaries(cad, size, edges, options);
+  rep.edge_points = edges.xyz.size();
+  lap("edge points");
+
+  show_progress("surface mesh: cross field");
+  const int nf = static_cast<int>(w.size());
+  w.field.resize(w.size());
+  parallel_for(nf, [&](int i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (!w.collapsed[k]) w.field[k].emplace(cad, w.faces[k], w.boundary[k], edges, size);
+  });
+  for (const auto& fl : w.field)
+    if (fl) rep.background_triangles += fl->background_triangles();
+  lap("cross field");
+
+  show_progress("surface mesh: packing of parallelograms");
+  w.pts.resize(w.size());
+  parallel_for(nf, [&](int i) {
+    const auto k = static_cast<std::size_t>(i);
+    PackingOptions po;
+    po.k = options.k;
+    po.budget = static_cast<std::size_t>(w.budget[k]);
+    if (!w.collapsed[k]) w.pts[k] = pack_face(cad, *w.field[k], w.boundary[k], edges, po);
+  });
+  for (const auto& p : w.pts) rep.candidates += p.candidates;
+  lap("packing");
+
+  show_progress("surface mesh: triangulation");
+  triangulate_faces(cad, edges, w);
+  lap("triangulation");
+
+  SurfaceMesh out;
+  const Owners own = assemble_triangles(cad, edges, w, out.mesh, rep);
+  node_frames(cad, size, edges, w, own, out);
   out.faces_of_solid.resize(static_cast<std::size_t>(cad.num_solids()) + 1);
   for (int s = 1; s <= cad.num_solids(); ++s)
     out.faces_of_solid[static_cast<std::size_t>(s)] = cad.faces_of_solid(s);
   drop_unused_nodes(out);
-  rep.points = m.nodes.size();
-  rep.triangles = m.num_bfaces();
-  rep.quality = triangle_quality(m, cad_corners(cad, m));
-  rep.stage_seconds.emplace_back("assembly", seconds_since(t0));
+  rep.points = out.mesh.nodes.size();
+  rep.triangles = out.mesh.num_bfaces();
+  rep.quality = triangle_quality(out.mesh, cad_corners(cad, out.mesh));
+  lap("assembly");
   end_progress();
   return out;
 }
@@ -403,9 +420,9 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
   SurfaceReport local;
   SurfaceReport& rep = report ? *report : local;
   SurfaceMesh out = mesh_surface_once(cad, options, rep);
-  auto t0 = Clock::now();
+  StageTimer timer;
   rep.checks = check_solids(out);
-  rep.stage_seconds.emplace_back("checks", seconds_since(t0));
+  rep.stage_seconds.emplace_back("checks", timer.lap("checks").seconds);
   // A size coarser than a thin wall's bend or a tight curved face lets chords of the two
   // sides cross (thin sheet parts at h much larger than the thickness). Meshing again with a
   // curvature bound (8, then 16 elements per turn, or twice the user's) follows such bends.
@@ -422,9 +439,9 @@ SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
     } catch (const Error&) {
       break;  // the finer sizes exceed the point budget: keep the first mesh and its checks
     }
-    t0 = Clock::now();
+    timer.lap("retry");
     again.checks = check_solids(mesh);
-    again.stage_seconds.emplace_back("checks", seconds_since(t0));
+    again.stage_seconds.emplace_back("checks", timer.lap("checks").seconds);
     for (const auto& [stage, sec] : rep.stage_seconds)
       again.stage_seconds.emplace_back("first attempt: " + stage, sec);
     again.curvature_used = curvature;
