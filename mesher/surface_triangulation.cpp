@@ -40,23 +40,44 @@ double angle(const Vec3& at, const Vec3& a, const Vec3& b) {
   return std::acos(std::clamp((u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv), -1.0, 1.0));
 }
 
-}  // namespace
-
-FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& in,
-                               const EdgePoints& points, Vec2 scale) {
-  const int nb = static_cast<int>(b.uv.size());
-  auto xyz = [&](int id) -> const Vec3& {
+// The face's points by local id (boundary points first, then the packing's): their 3D position
+// and the global node they stand for.
+struct FacePointSet {
+  const FaceBoundary& b;
+  const FacePoints& in;
+  const EdgePoints& points;
+  int nb;
+  const Vec3& xyz(int id) const {
     return id < nb ? points.xyz[static_cast<std::size_t>(b.node[static_cast<std::size_t>(id)])]
                    : in.xyz[static_cast<std::size_t>(id - nb)];
-  };
-  auto node_key = [&](int id) { return id < nb ? b.node[static_cast<std::size_t>(id)] : -1 - id; };
+  }
+  int node_key(int id) const { return id < nb ? b.node[static_cast<std::size_t>(id)] : -1 - id; }
+};
 
-  CDT cdt;
+bool in_domain(const CDT& cdt, CDT::Face_handle fh) {
+  return !cdt.is_infinite(fh) && fh->info() % 2 == 1;
+}
+
+double min_angle(const FacePointSet& P, CDT::Face_handle fh) {
+  double m = std::numbers::pi;
+  for (int i = 0; i < 3; ++i)
+    m = std::min(m,
+                 angle(P.xyz(fh->vertex(i)->info().id), P.xyz(fh->vertex(CDT::ccw(i))->info().id),
+                       P.xyz(fh->vertex(CDT::cw(i))->info().id)));
+  return m;
+}
+
+// The constrained Delaunay triangulation of the boundary and the interior points in the scaled
+// parameter plane; throws when the boundary does not survive it.
+void insert_points(CDT& cdt, int f, const FacePointSet& P, Vec2 scale) {
+  const FaceBoundary& b = P.b;
+  const FacePoints& in = P.in;
+  const int nb = P.nb;
   std::vector<CDT::Vertex_handle> handles(static_cast<std::size_t>(nb));
   for (int i = 0; i < nb; ++i) {
     const auto& p = b.uv[static_cast<std::size_t>(i)];
     auto v = cdt.insert(CDT::Point(p[0] * scale[0], p[1] * scale[1]));
-    if (v->info().id >= 0 && node_key(v->info().id) != node_key(i))
+    if (v->info().id >= 0 && P.node_key(v->info().id) != P.node_key(i))
       throw Error("face " + std::to_string(f) +
                   ": two boundary points coincide in the parameter plane");
     if (v->info().id < 0) v->info().id = i;
@@ -91,28 +112,24 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
       throw Error("face " + std::to_string(f) +
                   ": a boundary segment was lost in the triangulation");
   }
-  FaceTriangles out;
-  if (cdt.dimension() < 2) {
-    out.interior_used.assign(in.uv.size(), false);
-    return out;
-  }
-  mark_nesting_levels(cdt);
+}
 
-  // Flips toward the Delaunay criterion on the 3D triangles, kept only where the flipped pair
-  // stays valid in the parameter plane.
-  auto in_domain = [&](CDT::Face_handle fh) { return !cdt.is_infinite(fh) && fh->info() % 2 == 1; };
+// Flips toward the Delaunay criterion on the 3D triangles, kept only where the flipped pair stays
+// valid in the parameter plane. Returns how many.
+std::size_t flip_toward_delaunay_3d(CDT& cdt, const FacePointSet& P) {
+  std::size_t total = 0;
   const std::size_t max_flips = 20 * static_cast<std::size_t>(cdt.number_of_faces()) + 100;
   for (int pass = 0; pass < 50; ++pass) {
     std::size_t flips = 0;
     for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
-      if (!in_domain(fh)) continue;
+      if (!in_domain(cdt, fh)) continue;
       for (int i = 0; i < 3; ++i) {
         CDT::Face_handle g = fh->neighbor(i);
-        if (cdt.is_constrained(CDT::Edge(fh, i)) || !in_domain(g)) continue;
+        if (cdt.is_constrained(CDT::Edge(fh, i)) || !in_domain(cdt, g)) continue;
         const auto vp = fh->vertex(i), ve1 = fh->vertex(CDT::ccw(i)), ve2 = fh->vertex(CDT::cw(i));
         const auto vq = g->vertex(g->index(fh));
-        const Vec3 &p = xyz(vp->info().id), &q = xyz(vq->info().id);
-        const Vec3 &e1 = xyz(ve1->info().id), &e2 = xyz(ve2->info().id);
+        const Vec3 &p = P.xyz(vp->info().id), &q = P.xyz(vq->info().id);
+        const Vec3 &e1 = P.xyz(ve1->info().id), &e2 = P.xyz(ve2->info().id);
         if (angle(p, e1, e2) + angle(q, e1, e2) <= std::numbers::pi + 1e-6) continue;
         // Valid in the plane: e1 and e2 strictly on opposite sides of the new edge p-q.
         if (CGAL::orientation(vp->point(), vq->point(), ve1->point()) != CGAL::RIGHT_TURN ||
@@ -124,29 +141,28 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
         break;  // fh changed; move on
       }
     }
-    out.flips += flips;
-    if (flips == 0 || out.flips > max_flips) break;
+    total += flips;
+    if (flips == 0 || total > max_flips) break;
   }
 
+  return total;
+}
+
+void remove_flat_points(CDT& cdt, const FacePointSet& P) {
+  const int nb = P.nb;
   // An interior point lying almost on the line between two of its neighbours (where the
   // packing grades steeply from a fine boundary) makes a flat triangle, with an angle near
   // 180 degrees at the point and a needle's angles at the others. The point is taken out when
   // the triangles that fill its star are better (smallest 3D angle) than the ones it had.
-  auto min_angle = [&](CDT::Face_handle fh) {
-    double m = std::numbers::pi;
-    for (int i = 0; i < 3; ++i)
-      m = std::min(m, angle(xyz(fh->vertex(i)->info().id), xyz(fh->vertex(CDT::ccw(i))->info().id),
-                            xyz(fh->vertex(CDT::cw(i))->info().id)));
-    return m;
-  };
   constexpr double kFlat = 150 * std::numbers::pi / 180, kNeedle = 5 * std::numbers::pi / 180;
   std::vector<CDT::Vertex_handle> flat;
   for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
-    if (!in_domain(fh) || min_angle(fh) >= kNeedle) continue;
+    if (!in_domain(cdt, fh) || min_angle(P, fh) >= kNeedle) continue;
     for (int i = 0; i < 3; ++i) {
       const auto v = fh->vertex(i);
-      if (v->info().id >= nb && angle(xyz(v->info().id), xyz(fh->vertex(CDT::ccw(i))->info().id),
-                                      xyz(fh->vertex(CDT::cw(i))->info().id)) > kFlat)
+      if (v->info().id >= nb &&
+          angle(P.xyz(v->info().id), P.xyz(fh->vertex(CDT::ccw(i))->info().id),
+                P.xyz(fh->vertex(CDT::cw(i))->info().id)) > kFlat)
         flat.push_back(v);
     }
   }
@@ -161,10 +177,10 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
     std::set<CDT::Face_handle> kept;
     auto fc = cdt.incident_faces(v), fc_end = fc;
     do {
-      inside = inside && in_domain(fc) && (level < 0 || fc->info() == level);
+      inside = inside && in_domain(cdt, fc) && (level < 0 || fc->info() == level);
       if (!inside) break;
       level = fc->info();
-      before = std::min(before, min_angle(fc));
+      before = std::min(before, min_angle(P, fc));
       ring.push_back(fc->vertex(CDT::ccw(fc->index(v))));
     } while (++fc != fc_end);
     if (!inside) continue;
@@ -186,7 +202,7 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
             std::find(fresh.begin(), fresh.end(), g) == fresh.end()) {
           g->info() = level;
           fresh.push_back(g);
-          after = std::min(after, min_angle(g));
+          after = std::min(after, min_angle(P, g));
         }
       while (++g != g_end);
     }
@@ -197,13 +213,30 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
     do g->info() = level;
     while (++g != g_end);
   }
+}
 
+}  // namespace
+
+FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& in,
+                               const EdgePoints& points, Vec2 scale) {
+  const FacePointSet P{b, in, points, static_cast<int>(b.uv.size())};
+  const int nb = P.nb;
+  CDT cdt;
+  insert_points(cdt, f, P, scale);
+  FaceTriangles out;
+  if (cdt.dimension() < 2) {
+    out.interior_used.assign(in.uv.size(), false);
+    return out;
+  }
+  mark_nesting_levels(cdt);
+  out.flips = flip_toward_delaunay_3d(cdt, P);
+  remove_flat_points(cdt, P);
   out.interior_used.assign(in.uv.size(), false);
   for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
-    if (!in_domain(fh)) continue;
+    if (!in_domain(cdt, fh)) continue;
     std::array<int, 3> t{fh->vertex(0)->info().id, fh->vertex(1)->info().id,
                          fh->vertex(2)->info().id};
-    const int k0 = node_key(t[0]), k1 = node_key(t[1]), k2 = node_key(t[2]);
+    const int k0 = P.node_key(t[0]), k1 = P.node_key(t[1]), k2 = P.node_key(t[2]);
     if (k0 == k1 || k1 == k2 || k0 == k2) continue;  // collapsed on a pole or apex
     for (int id : t)
       if (id >= nb) out.interior_used[static_cast<std::size_t>(id - nb)] = true;
