@@ -3,6 +3,10 @@
 // constrained by the edge points), three Laplace problems share one matrix: cos 4θ and sin 4θ
 // with Dirichlet data from the boundary tangents, and the size with the edge sizes. θ is the
 // angle of d1 from s1 = t1/|t1| in the tangent plane.
+//
+// Takes: a face, its boundary points and their sizes.
+// Gives: a FaceField: frame and size at any (u, v) of the face.
+// Keeps: unit cross directions in the tangent plane; sizes at most the face bound.
 #pragma once
 
 #include <array>

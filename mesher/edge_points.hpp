@@ -1,5 +1,9 @@
 // Stage 2: points on the CAD edges, spaced by the size field. Every face bounded by an edge
 // uses the same points, so the surface mesh is conforming along edges by construction.
+//
+// Takes: the CAD model and the size field.
+// Gives: points on every CAD edge, shared by the faces the edge bounds.
+// Keeps: edge points spaced by the size field; an edge's points are the only boundary of its faces.
 #pragma once
 
 #include <array>

@@ -1,6 +1,10 @@
 // 3D frame and size fields (paper, "Cross fields"): the frame at any point of the volume is the
 // frame of the nearest surface vertex; the size is that vertex's, graded with the distance from
 // it (size_at). Built once, queried millions of times.
+//
+// Takes: the SurfaceMesh.
+// Gives: frame and size at any point of the volume.
+// Keeps: read-only after construction; thread-safe queries.
 #pragma once
 
 #include <array>

@@ -9,6 +9,15 @@ namespace hexfem {
 
 namespace {
 
+// {kind name: count} for the kinds with a count (or all of them), as a JSON object.
+template <class Counts>
+nlohmann::json by_kind(const Counts& n, bool skip_zero) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int k = 0; k < kNumCellKinds; ++k)
+    if (n[k] || !skip_zero) j[kind_name(static_cast<CellKind>(k))] = n[k];
+  return j;
+}
+
 double vertices_per_second(const MeshReport& r) {
   return r.total_seconds > 0 ? r.volume.stats.num_nodes / r.total_seconds : 0.0;
 }
@@ -32,10 +41,7 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
   j["tets_from_flips"] = r.tets_from_flips;
   j["slivers_left"] = r.slivers_left;
   j["lifted_cells"] = r.lifted_cells;
-  nlohmann::json cells;
-  for (int k = 0; k < kNumCellKinds; ++k)
-    cells[kind_name(static_cast<CellKind>(k))] = r.stats.cells_per_kind[k];
-  j["cells"] = cells;
+  j["cells"] = by_kind(r.stats.cells_per_kind, false);
   j["num_cells"] = r.stats.num_cells;
   j["candidates"] = {{"hex8", r.hex_candidates},
                      {"wedge6", r.prism_candidates},
@@ -56,16 +62,10 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
   j["volume_elements_gap"] = r.volume_elements_gap;
   j["volume_absorbed"] = r.volume_absorbed;
   j["volume_gap_before_limit"] = r.volume_gap_before;
-  nlohmann::json undone;
-  for (int k = 0; k < kNumCellKinds; ++k)
-    if (r.gap_undone[k]) undone[kind_name(static_cast<CellKind>(k))] = r.gap_undone[k];
-  j["undone_for_volume_gap"] = undone.is_null() ? nlohmann::json::object() : undone;
-  nlohmann::json nc_undone;
-  for (int k = 0; k < kNumCellKinds; ++k)
-    if (r.nc_undone[k]) nc_undone[kind_name(static_cast<CellKind>(k))] = r.nc_undone[k];
+  j["undone_for_volume_gap"] = by_kind(r.gap_undone, true);
   j["nc_repair"] = {{"nc_faces_before", r.nc_faces_before_repair},
                     {"nc_faces_after", r.nc_faces_after_repair},
-                    {"undone", nc_undone.is_null() ? nlohmann::json::object() : nc_undone},
+                    {"undone", by_kind(r.nc_undone, true)},
                     {"pyramids_added", r.nc_repair_pyramids},
                     {"prisms_added", r.nc_repair_prisms}};
   nlohmann::json stages = nlohmann::json::array();

@@ -1,5 +1,9 @@
 // The whole mesher in the paper's order: CAD -> surface mesh (size field, cross field, packing of
 // parallelograms, triangulation) -> volume (3D frontal points, TetGen, hexes, prisms, pyramids).
+//
+// Takes: a CAD model (or file) and MeshOptions.
+// Gives: a valid MixedMesh and a MeshReport.
+// Keeps: no inverted or flat cell and a watertight boundary, or a one-line Error and no mesh.
 #pragma once
 
 #include <string>

@@ -7,6 +7,10 @@
 // pyramid-covered) faces meet at an edge, and pyramids are made on the faces left. This lowers
 // the NC share at a small cost in hexes; the paper counts NC faces as the price of its
 // recombination (section "Yamakawa-Shimada's algorithm and finite element conformity").
+//
+// Takes: the RecombineState after the pyramids.
+// Gives: fewer NC faces: elements undone, pyramids and prisms made (NcRepair).
+// Keeps: the state's invariant; no element undone into a tet flatter than keep_tet_quality.
 #pragma once
 
 #include <cstdint>

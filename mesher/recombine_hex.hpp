@@ -4,6 +4,10 @@
 // pattern of those tets, is found from its lowest vertex; candidates below a quality threshold
 // are dropped; the rest are placed best first when all their tets are free and the conformity
 // rules hold.
+//
+// Takes: the TetTopology.
+// Gives: candidate hexes, best first (place_greedily places them into the RecombineState).
+// Keeps: candidates only; each is found once, from its lowest vertex.
 #pragma once
 
 #include <vector>

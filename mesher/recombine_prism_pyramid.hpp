@@ -2,6 +2,10 @@
 // hexes, same quality threshold, conformity rules and CAD-face rule), then pyramids from two free
 // tets resting on a quad face of a hex or prism that no other element shares (paper,
 // "Yamakawa-Shimada's algorithm and finite element conformity").
+//
+// Takes: the RecombineState after the hexes.
+// Gives: prisms, pyramids and pyramids around slivers, placed into the state.
+// Keeps: the state's invariant (each tet in one place) at the end of each function.
 #pragma once
 
 #include <vector>

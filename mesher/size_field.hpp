@@ -2,6 +2,10 @@
 // vertices, and a curvature bound (N elements per 2*pi of turning). Vertex sizes spread along
 // edges by 1D interpolation in arc length (paper, "Cross fields"); faces get theirs from a
 // Laplace solve with the edge sizes as Dirichlet data (cross_field.cpp, same background mesh).
+//
+// Takes: the CAD model and SurfaceOptions (h, curvature, vertex sizes).
+// Gives: a size at every point of every edge and a bound per face.
+// Keeps: sizes in (0, h]; the same size on both sides of an edge.
 #pragma once
 
 #include <limits>

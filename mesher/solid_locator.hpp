@@ -1,6 +1,10 @@
 // Point location against the closed surface of each solid of a SurfaceMesh (CGAL AABB trees):
 // inside tests by ray parity, "is the boundary closer than r", segment crossings. Used by the
 // volume point insertion and to classify the tets TetGen returns. Queries are thread-safe.
+//
+// Takes: the SurfaceMesh.
+// Gives: inside tests, distances to the boundary, segment crossings per solid.
+// Keeps: read-only after construction; thread-safe queries.
 #pragma once
 
 #include <array>

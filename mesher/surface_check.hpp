@@ -1,6 +1,10 @@
 // Checks of a surface mesh: closed 2-manifold per solid, consistent outward orientation,
 // self-intersection (CGAL Polygon Mesh Processing), triangle angles, enclosed volume, and the
 // alignment measure (share of right-isosceles-like triangles).
+//
+// Takes: a SurfaceMesh.
+// Gives: a SolidCheck per solid.
+// Keeps: read-only.
 #pragma once
 
 #include <array>

@@ -1,5 +1,9 @@
 // The surface mesher, stage by stage in the paper's order: size field, edge points, cross
 // field, packing of parallelograms, triangulation. Faces are meshed in parallel (OpenMP).
+//
+// Takes: the CAD model and SurfaceOptions.
+// Gives: the SurfaceMesh (triangles, per-node frames and sizes) and a SurfaceReport.
+// Keeps: closed, outward-oriented triangulation per solid, or a one-line Error.
 #pragma once
 
 #include <string>

@@ -4,6 +4,11 @@
 // h); a candidate is kept when it is inside the trimmed face and no existing point lies within
 // k h of it in the L∞ distance oriented by the candidate's frame (eq. 7). Spatial search:
 // a Boost.Geometry R-tree queried with the axis-aligned box of the exclusion parallelogram.
+//
+// Takes: a face's FaceField and boundary points.
+// Gives: the face's interior points (FacePoints).
+// Keeps: no two points within k h in the frame's L-infinity distance; points inside the trimmed
+// face.
 #pragma once
 
 #include <cstddef>

@@ -2,6 +2,10 @@
 // constrained Delaunay, the edge points' segments as constraints), scaled by the face's mean
 // metric, then edge flips toward the Delaunay criterion measured on the 3D triangles, so the
 // lattice of the packing comes out as right triangles in 3D.
+//
+// Takes: a face's boundary and interior points.
+// Gives: its triangles over local point ids (FaceTriangles).
+// Keeps: every boundary segment an edge of the triangulation (the faces stay conforming).
 #pragma once
 
 #include <array>

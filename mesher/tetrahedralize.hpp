@@ -1,6 +1,10 @@
 // Tetrahedralization of the surface triangles plus the interior points with TetGen (libtet):
 // every surface triangle is kept as it is (no Steiner point on the boundary, "-Y"), no quality
 // refinement (no "-q"), and each tet is assigned to the solid that contains it.
+//
+// Takes: the SurfaceMesh and the interior points.
+// Gives: a TetMesh: positive tets, each with its solid.
+// Keeps: every surface triangle is a tet face; surface nodes first, then interior points.
 #pragma once
 
 #include <array>

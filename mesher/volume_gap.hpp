@@ -5,6 +5,10 @@
 // so undoing an element into its tets changes the total by exactly its own term. This stage
 // undoes the elements that lose the most volume per unit of their own volume until the total is
 // within a budget.
+//
+// Takes: the RecombineState after the NC repair and the gap budget.
+// Gives: elements undone until |V(mixed) - V(tets)| <= budget (VolumeGap).
+// Keeps: the state's invariant; no element undone into a tet flatter than keep_tet_quality.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,10 @@
 // The volume mesher, end to end: surface mesh -> 3D frame field -> frontal points -> TetGen ->
 // hexes -> prisms -> pyramids -> mixed mesh with boundary quads and NC flags.
+//
+// Takes: a closed SurfaceMesh and VolumeOptions.
+// Gives: the hex-dominant MixedMesh with boundary faces and NC flags, and a VolumeReport.
+// Keeps: each TetGen tet in exactly one place (verified before assembly); deterministic for any
+// thread count.
 #pragma once
 
 #include <array>

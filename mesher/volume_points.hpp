@@ -7,6 +7,10 @@
 // parent to child), not the paper's frame of the nearest surface vertex: each front then grows
 // as one straight lattice up to where it meets another, instead of switching orientation where
 // the nearest vertex changes (ANC101 h = 4.5: H_vol +1.1 points, H_nbr +2.0; validation/volume.md).
+//
+// Takes: the SurfaceMesh, the 3D frame field and the locator.
+// Gives: the interior points (VolumePoints).
+// Keeps: every point inside its solid, none within k h of the boundary or of another point.
 #pragma once
 
 #include <cstdint>

@@ -6,6 +6,11 @@
 // it, the triangulation with the best min scaled Jacobian. Only free tets (in no element) are
 // touched, and the shell's outer faces stay, so elements, NC faces and the surface are unchanged;
 // the volume is the same up to rounding.
+//
+// Takes: the RecombineState (free tets) or the assembled MixedMesh.
+// Gives: flipped slivers (SliverFlips), lifted vertices.
+// Keeps: elements, surface and NC faces unchanged; no cell made worse than the recombination
+// bounds.
 #pragma once
 
 #include <array>
