@@ -52,7 +52,7 @@ int run(const ConvergeArgs& a) {
     mesh.surface.h = a.sizes[i];
     mesh.surface.curvature = a.curvature;
     std::fprintf(stderr, "converge: run %zu/%zu, h = %g ...\n", i + 1, a.sizes.size(), a.sizes[i]);
-    const PartModalResult r = run_part_modal(cad, mesh, modal, a.modal.force);
+    const PartModalResult r = run_part_modal(cad, mesh, modal, a.modal.force, a.modal.order);
     ConvergenceRow row;
     row.h = a.sizes[i];
     row.nodes = static_cast<long>(r.mesh.nodes.size());
@@ -75,6 +75,8 @@ int run(const ConvergeArgs& a) {
     j["part"] = a.file;
     j["material"] = modal.material.name;
     j["hex8"] = a.modal.hex8;
+    j["order"] = a.modal.order;
+    j["elements"] = element_formulations(a.modal.order, modal.incompatible_hex);
     j["fix"] = a.modal.fix;
     j["reference_hz"] = study.reference;
     j["rows"] = nlohmann::json::array();
@@ -100,9 +102,9 @@ int run(const ConvergeArgs& a) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
-  std::printf("%s: material '%s', fixed %s, hex8 %s; lengths in mm, frequencies in Hz\n",
+  std::printf("%s: material '%s', fixed %s; lengths in mm, frequencies in Hz\nelements %s\n",
               study.part.c_str(), modal.material.name.c_str(), a.modal.fix.front().c_str(),
-              a.modal.hex8.c_str());
+              element_formulations(a.modal.order, modal.incompatible_hex).c_str());
   std::printf("%s", convergence_text(study).c_str());
   for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
   return 0;

@@ -125,12 +125,14 @@ int run(const Args& a) {
     const CadModel cad = CadModel::read(a.mesh);
     MeshOptions mesh_options;
     mesh_options.surface.h = a.h;
-    part = run_part_modal(cad, mesh_options, opt, a.modal.force);
+    part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
     mesh = std::move(part.mesh);
     r = std::move(part.modal);
     if (!a.mesh_out.empty()) write_mesh(mesh, a.mesh_out);
   } else {
     mesh = read_mesh(a.mesh);
+    if (a.modal.order == 2 && mesh.order == 1)
+      part.order2 = raise_to_order2(mesh, nullptr);  // no geometry: straight edges
     r = solve_modal(mesh, opt);
   }
   const Units shown = cad_input ? Units{"mm", 1e-3} : units;
@@ -172,6 +174,15 @@ int run(const Args& a) {
       if (!a.mesh_out.empty()) j["mesh"]["written"] = a.mesh_out;
     }
     j["hex8"] = a.modal.hex8;
+    j["order"] = mesh.order;
+    j["elements"] = element_formulations(mesh.order, opt.incompatible_hex);
+    if (mesh.order == 2)
+      j["order2"] = {{"edge_nodes", part.order2.edge_nodes},
+                     {"boundary_nodes", part.order2.boundary_nodes},
+                     {"curved_nodes", part.order2.curved_nodes},
+                     {"projection_refused", part.order2.projection_refused},
+                     {"max_offset", part.order2.max_offset},
+                     {"straightened_cells", part.order2.straightened_cells}};
     j["units"] = {{"length", shown.name == "SI" ? "m" : "mm"},
                   {"scale_to_m", shown.scale},
                   {"material", "SI (Pa, kg/m^3)"},
@@ -218,9 +229,13 @@ int run(const Args& a) {
         part.mesh_report.stats.q_mean, part.mesh_report.stats.nc_percent,
         part.mesh_report.stats.inverted, part.mesh_report.volume_error, part.mesh_seconds,
         a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
-  std::printf("elements  hex8 %s\n", a.modal.hex8 == "full"
-                                         ? "fully integrated 2x2x2 (= CalculiX C3D8)"
-                                         : "with incompatible modes (C3D8I-like)");
+  std::printf("elements  %s\n", element_formulations(mesh.order, opt.incompatible_hex).c_str());
+  if (mesh.order == 2)
+    std::printf(
+        "order 2   %ld mid-edge nodes, %ld on the boundary, %ld curved onto the CAD geometry "
+        "(largest offset %.3f edge lengths, %ld projections refused), %ld cells straightened\n",
+        part.order2.edge_nodes, part.order2.boundary_nodes, part.order2.curved_nodes,
+        part.order2.max_offset, part.order2.projection_refused, part.order2.straightened_cells);
   std::printf("units     lengths in %s (x %g -> m), material in SI, frequencies in Hz\n",
               shown.name == "SI" ? "m" : "mm", shown.scale);
   std::printf("material  %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", mat.name.c_str(), mat.E,

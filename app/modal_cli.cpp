@@ -21,6 +21,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
   sub.add_option("--hex8", o.hex8,
                  "hex formulation: incompatible (default, bending-accurate) or full "
                  "(= CalculiX C3D8)");
+  sub.add_option("--order", o.order,
+                 "element order: 1 (hex8, wedge6, pyramid5, tet4; default) or 2 (hex20, wedge15, "
+                 "pyramid13, tet10; boundary nodes on the CAD geometry)");
   sub.add_flag("--force", o.force,
                "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
 }
@@ -34,6 +37,8 @@ ModalOptions modal_options_from(const ModalCliOptions& o) {
   if (nu) check_finite("--nu", mat.nu = o.nu);
   if (rho) check_finite("--rho", mat.rho = o.rho);
   validate(mat);
+  if (o.order != 1 && o.order != 2)
+    throw Error("--order must be 1 or 2 (got " + std::to_string(o.order) + ")");
   if (o.modes < 1) throw Error("--modes must be at least 1 (got " + std::to_string(o.modes) + ")");
   for (const std::string& spec : o.fix) parse_fix_spec(spec);
   ModalOptions opt;

@@ -15,7 +15,9 @@ struct ModalCliOptions {
   double E = 0, nu = 0, rho = 0;  // used only when given (see the options below)
   int modes = 10;
   std::string hex8 = "incompatible";
-  bool force = false;  // CAD input: accept a mesh whose volume is far off the CAD's
+  bool force = false;
+  int order =
+      1;  // element order, 1 or 2  // CAD input: accept a mesh whose volume is far off the CAD's
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;
 };
 

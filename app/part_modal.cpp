@@ -6,6 +6,8 @@
 
 #include "app/cli_checks.hpp"
 #include "fem/boundary.hpp"
+#include "fem/element.hpp"
+#include "mesher/cad/cad_project.hpp"
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/progress.hpp"
@@ -27,13 +29,37 @@ void check_fixed_faces_exist(const CadModel& cad, const std::vector<std::string>
                     "; see hexfem info)");
 }
 
+Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad) {
+  Order2Report report;
+  MidEdgeProjector project;
+  if (cad)
+    project = [cad](const Vec3& a, const Vec3& b, int f1, int f2) {
+      const Vec3 mid{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2};
+      return closest_point_on_geometry(*cad, mid, f1, f2).value_or(mid);
+    };
+  add_mid_edge_nodes(mesh, project, &report);
+  straighten_invalid_cells(mesh, element_jacobian_ratio, 0.05, &report);
+  return report;
+}
+
+std::string element_formulations(int order, bool incompatible_hex) {
+  if (order == 2)
+    return "order 2: hex20 serendipity 3x3x3 Gauss (= CalculiX C3D20), wedge15 27 points, "
+           "pyramid13 rational (Bedrosian) collapsed 27 points, tet10 27 points";
+  return std::string("order 1: hex8 ") +
+         (incompatible_hex ? "with incompatible modes (C3D8I-like)"
+                           : "fully integrated 2x2x2 (= CalculiX C3D8)") +
+         ", wedge6, pyramid5 rational, tet4";
+}
+
 PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_options,
-                               ModalOptions modal_options, bool force) {
+                               ModalOptions modal_options, bool force, int order) {
   using Clock = std::chrono::steady_clock;
   check_fixed_faces_exist(cad, modal_options.fix);
   PartModalResult r;
   auto t0 = Clock::now();
   r.mesh = mesh_part(cad, mesh_options, &r.mesh_report);
+  if (order == 2) r.order2 = raise_to_order2(r.mesh, &cad);
   r.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   check_mesh_volume(r.mesh_report.mesh_volume, r.mesh_report.cad_volume, mesh_options.surface.h,
                     force);

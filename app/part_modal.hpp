@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fem/modal_solver.hpp"
+#include "mesher/high_order_nodes.hpp"
 #include "mesher/pipeline.hpp"
 
 namespace hexfem {
@@ -15,7 +16,8 @@ struct PartModalResult {
   MixedMesh mesh;
   MeshReport mesh_report;  // mesh_report.stats: the mesh's measures
   ModalResult modal;
-  double mesh_seconds = 0, solve_seconds = 0;
+  double mesh_seconds = 0, solve_seconds = 0;  // mesh_seconds includes the order-2 nodes
+  Order2Report order2;                         // order 2 only
 };
 
 // True for the CAD extensions hexfem reads (.step .stp .iges .igs .brep .rle).
@@ -30,7 +32,14 @@ void check_fixed_faces_exist(const CadModel& cad, const std::vector<std::string>
 // the part) is an error, not a silently free analysis; so is a mesh whose volume is more than
 // 10 % off the CAD's, unless `force`.
 PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_options,
-                               ModalOptions modal_options, bool force = false);
+                               ModalOptions modal_options, bool force = false, int order = 1);
+
+// Makes an order-1 mesh order 2: mid-edge nodes, the boundary ones on the CAD geometry when
+// `cad` is given, cells whose curving would leave min/max det J below 0.05 straightened.
+Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad);
+
+// One line naming the element formulations used at this order.
+std::string element_formulations(int order, bool incompatible_hex);
 
 // The --hex8 option: "incompatible" (Wilson-Taylor bubbles, accurate in bending; the default)
 // -> true, "full" (2x2x2, = CalculiX C3D8) -> false; anything else is an error.
