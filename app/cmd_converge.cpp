@@ -47,6 +47,7 @@ int run(const ConvergeArgs& a) {
   const CadModel cad = CadModel::read(a.file);
   check_fixed_faces_exist(cad, a.modal.fix);
 
+  std::vector<std::pair<std::string, std::string>> solvers;  // per row: path taken, why
   for (std::size_t i = 0; i < a.sizes.size(); ++i) {
     MeshOptions mesh;
     mesh.surface.h = a.sizes[i];
@@ -61,9 +62,10 @@ int run(const ConvergeArgs& a) {
     row.h_nbr = r.mesh_report.stats.h_nbr;
     row.seconds = r.mesh_seconds + r.solve_seconds;
     row.frequencies = r.modal.frequencies;
-    std::fprintf(stderr, "converge: h = %g: %ld cells, H_vol %.2f %%, f1 %.3f Hz (%.1f s)\n", row.h,
+    solvers.emplace_back(r.modal.eigen.method, r.modal.solver_reason);
+    std::fprintf(stderr, "converge: h = %g: %ld cells, H_vol %.2f %%, f1 %.3f Hz (%.1f s, %s)\n", row.h,
                  row.cells, row.h_vol, row.frequencies.empty() ? 0.0 : row.frequencies[0],
-                 row.seconds);
+                 row.seconds, r.modal.solver_reason.c_str());
     study.rows.push_back(std::move(row));
   }
 
@@ -88,7 +90,9 @@ int run(const ConvergeArgs& a) {
                            {"H_vol", row.h_vol},
                            {"H_nbr", row.h_nbr},
                            {"seconds", row.seconds},
-                           {"frequencies_hz", row.frequencies}};
+                           {"frequencies_hz", row.frequencies},
+                           {"solver", solvers[r].first},
+                           {"solver_reason", solvers[r].second}};
       for (int i = 0; i < study.num_frequencies() && !study.reference.empty(); ++i)
         jr["relative_error"].push_back(study.error(r, i));
       j["rows"].push_back(jr);

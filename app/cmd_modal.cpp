@@ -205,6 +205,13 @@ int run(const Args& a) {
                    {"factor_s", r.eigen.factor_seconds},  {"lanczos_s", r.eigen.solve_seconds},
                    {"factor_nnz", r.eigen.factor_nnz},    {"shift", r.eigen.sigma},
                    {"max_residual", r.eigen.max_residual}};
+    j["solver"]["method"] = r.eigen.method;
+    j["solver"]["reason"] = r.solver_reason;
+    j["solver"]["setup_s"] = r.eigen.setup_seconds;
+    j["solver"]["solve_s"] = r.eigen.solve_seconds;
+    j["solver"]["iterations"] = r.eigen.iterations;
+    j["solver"]["peak_memory_bytes"] = r.eigen.peak_memory_bytes;
+    j["solver"]["ranks"] = r.eigen.ranks;
     j["warnings"] = warnings;
     if (!a.modes_out.empty()) j["modes_out"] = a.modes_out;
     std::printf("%s\n", j.dump(2).c_str());
@@ -246,8 +253,19 @@ int run(const Args& a) {
     std::printf("boundary  --fix %s: %zu nodes\n", a.modal.fix[i].c_str(), fixed_nodes[i]);
   std::printf("model     %ld free DOFs, %ld fixed; mass %.6g kg, volume %.6g m^3\n",
               r.num_free_dofs, r.num_fixed_dofs, r.total_mass, r.volume);
-  std::printf("solver    order %.2f s, assembly %.2f s, factorization %.2f s, Lanczos %.2f s\n\n",
-              r.order_seconds, r.assemble_seconds, r.eigen.factor_seconds, r.eigen.solve_seconds);
+  if (r.eigen.method == "iterative")
+    std::printf(
+        "solver    iterative (SLEPc LOBPCG + PETSc GAMG, %d rank%s; %s): assembly %.2f s, AMG "
+        "setup %.2f s, LOBPCG %.2f s (%ld iterations), max residual %.1e, peak memory %.2f GB\n\n",
+        r.eigen.ranks, r.eigen.ranks > 1 ? "s" : "", r.solver_reason.c_str(), r.assemble_seconds,
+        r.eigen.setup_seconds, r.eigen.solve_seconds, r.eigen.iterations, r.eigen.max_residual,
+        r.eigen.peak_memory_bytes / 1e9);
+  else
+    std::printf(
+        "solver    direct (CHOLMOD + Spectra; %s): order %.2f s, assembly %.2f s, factorization "
+        "%.2f s, Lanczos %.2f s, max residual %.1e, peak memory %.2f GB\n\n",
+        r.solver_reason.c_str(), r.order_seconds, r.assemble_seconds, r.eigen.factor_seconds,
+        r.eigen.solve_seconds, r.eigen.max_residual, r.eigen.peak_memory_bytes / 1e9);
   std::printf("mode  frequency [Hz]   effective mass [%% of total]\n");
   std::printf("                          x         y         z\n");
   double sum[3] = {0, 0, 0};

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/command_registry.hpp"
+#include "fem/iterative_solver.hpp"
 #include "mesher/mesh/error.hpp"
 
 namespace hexfem {
@@ -26,6 +27,8 @@ void print_error(std::string message, const char* suffix = "") {
 
 int main(int argc, char** argv) {
   using namespace hexfem;
+  MpiSession mpi;  // under mpirun: ranks > 0 only take part in rank 0's solves
+  if (!mpi.is_root()) return mpi.serve();
   CLI::App app{
       "hexfem: hex-dominant meshes of CAD parts (Baudouin et al. 2014) and their natural "
       "frequencies"};

@@ -24,6 +24,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
   sub.add_option("--order", o.order,
                  "element order: 1 (hex8, wedge6, pyramid5, tet4; default) or 2 (hex20, wedge15, "
                  "pyramid13, tet10; boundary nodes on the CAD geometry)");
+  sub.add_option("--solver", o.solver,
+                 "direct (CHOLMOD), iterative (SLEPc LOBPCG + GAMG; also under mpirun) or auto "
+                 "(default: by DOF count and the estimated factor memory)");
   sub.add_flag("--force", o.force,
                "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
 }
@@ -46,6 +49,7 @@ ModalOptions modal_options_from(const ModalCliOptions& o) {
   opt.fix = o.fix;
   opt.num_modes = o.modes;
   opt.incompatible_hex = incompatible_hex_from_option(o.hex8);
+  opt.solver = solver_choice_from_option(o.solver);
   return opt;
 }
 

@@ -15,13 +15,14 @@ struct ModalCliOptions {
   double E = 0, nu = 0, rho = 0;  // used only when given (see the options below)
   int modes = 10;
   std::string hex8 = "incompatible";
+  std::string solver = "auto";  // --solver direct|iterative|auto
   bool force = false;
   int order =
       1;  // element order, 1 or 2  // CAD input: accept a mesh whose volume is far off the CAD's
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;
 };
 
-// Declares --fix --material --E --nu --rho --modes --hex8 --force on `sub`; `o.modes` holds the
+// Declares --fix --material --E --nu --rho --modes --hex8 --solver --force on `sub`; `o.modes` holds the
 // default number of modes.
 void add_modal_options(CLI::App& sub, ModalCliOptions& o);
 

@@ -251,7 +251,8 @@ Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduce
   return full;
 }
 
-int count_unheld_rigid_motions(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed) {
+UnheldRigidMotions unheld_rigid_motions(const MixedMesh& mesh,
+                                        const std::vector<std::uint8_t>& fixed) {
   // Centre and scale the coordinates so translations and rotations weigh alike.
   const std::vector<std::uint8_t> used = used_nodes(mesh);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
@@ -281,9 +282,17 @@ int count_unheld_rigid_motions(const MixedMesh& mesh, const std::vector<std::uin
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram);
   const double top = eig.eigenvalues().maxCoeff();
+  UnheldRigidMotions out;
+  out.centre = centre;
+  out.length = length;
   int unheld = 0;
   for (int k = 0; k < 6; ++k) unheld += !(eig.eigenvalues()[k] > 1e-10 * top);
-  return unheld;
+  out.coefficients = eig.eigenvectors().leftCols(unheld);  // eigenvalues ascend
+  return out;
+}
+
+int count_unheld_rigid_motions(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed) {
+  return static_cast<int>(unheld_rigid_motions(mesh, fixed).coefficients.cols());
 }
 
 }  // namespace hexfem

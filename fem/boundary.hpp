@@ -66,6 +66,17 @@ DofMap number_free_dofs(const MixedMesh& mesh, const std::vector<std::uint8_t>& 
 // 6x6 Gram matrix), so it needs no solve. Nodes that belong to no cell are ignored.
 int count_unheld_rigid_motions(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed);
 
+// The unheld rigid motions themselves: column j of `coefficients` (6 x count) combines the
+// translations e_a and the rotations e_k x (x - centre) / length into a motion that no fixed DOF
+// resists (exactly a zero-energy mode of the constrained model).
+struct UnheldRigidMotions {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double length = 1;
+  Eigen::MatrixXd coefficients;
+};
+UnheldRigidMotions unheld_rigid_motions(const MixedMesh& mesh,
+                                        const std::vector<std::uint8_t>& fixed);
+
 // Full nodal vector (3 * nodes, zeros at eliminated DOFs) from a vector of free DOFs.
 Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduced);
 

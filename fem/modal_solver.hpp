@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fem/assembly.hpp"
+#include "fem/iterative_settings.hpp"
 #include "fem/material.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
 
@@ -36,11 +37,23 @@ struct EigenResult {
   long operations = 0;      // applications of (K - σM)^-1
   double factor_seconds = 0, solve_seconds = 0;
   double max_residual = 0;  // max over modes of |Kφ - λMφ| / (λ_top |Mφ|), λ_top the largest found
+  // Common to both paths: "direct" or "iterative", the setup (factorization or AMG hierarchy),
+  // the peak resident memory of the solving processes (summed over MPI ranks) and their count.
+  std::string method = "direct";
+  double setup_seconds = 0;
+  double peak_memory_bytes = 0;
+  int ranks = 1;
 };
 
 // Lowest `num_modes` eigenpairs of (K, M) given as lower triangles. Throws hexfem::Error when
 // the request exceeds the size or the iteration does not converge.
 EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const EigenOptions& options);
+
+// --solver: direct (CHOLMOD + Spectra), iterative (SLEPc LOBPCG + GAMG, MPI-capable), or auto
+// (by DOF count and the estimated factor memory against the free memory).
+enum class SolverChoice { Direct, Iterative, Auto };
+inline constexpr long kAutoDirectMaxDofs = 150000;
+SolverChoice solver_choice_from_option(const std::string& value);  // throws on a bad value
 
 struct ModalOptions {
   Material material;
@@ -51,6 +64,8 @@ struct ModalOptions {
   // integrated trilinear hex (= CalculiX C3D8, which locks in bending).
   bool incompatible_hex = false;
   EigenOptions eigen;  // num_modes is taken from above
+  SolverChoice solver = SolverChoice::Direct;
+  IterativeSettings iterative;
 };
 
 struct ModalResult {
@@ -69,6 +84,7 @@ struct ModalResult {
   double order_seconds = 0;     // fill-reducing order of the nodes
   double assemble_seconds = 0;  // DOF selection and numbering, K and M
   EigenResult eigen;            // solver figures (vectors moved into `modes`)
+  std::string solver_reason;    // why this path was taken (--solver auto explains its pick)
 };
 
 // Checks the input (material, cells, inverted cells, fixed-DOF selection, mode count), then

@@ -9,12 +9,15 @@ PACKAGES=(
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev libtbb-dev
   libsuitesparse-dev libopenblas0-pthread libboost-dev libcli11-dev nlohmann-json3-dev
+  petsc-dev libslepc-real-dev libopenmpi-dev openmpi-bin
   libgtest-dev libgmock-dev libbenchmark-dev
   calculix-ccx python3-meshio gmsh gnuplot-nox xvfb xauth
 )
 
 # libopenblas0-pthread: an optimized BLAS behind libblas.so.3 (Debian's alternatives); CHOLMOD's
 # supernodal factorization is BLAS-3 and runs 5-7x faster than on the reference BLAS.
+# petsc-dev, libslepc-real-dev (and OpenMPI): the iterative eigensolver, on one process or under
+# mpirun (fem/iterative_solver.hpp).
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -5,6 +5,11 @@
 //       wall time, peak memory (each run in its own child process, getrusage) and the same mesh
 //       through CalculiX in the same run. Default k = 14 21 32 (~95k, ~306k, ~1.05M DOF).
 //       --ccx-mem-gb / --ccx-cpu-s cap ccx's address space / CPU time (it then counts as failed).
+//   iterative [k ...] [--no-direct]
+//       the same cantilevers through both paths in one run, each in its own child process:
+//       direct (CHOLMOD + Spectra) and iterative (SLEPc LOBPCG + GAMG) time, peak memory, ratios
+//       and the largest relative difference of f1-f10. Default k = 14 21 32.
+//   write-mesh k file.msh   the k cantilever as a mesh file (for `mpirun ... hexfem modal`).
 //   ccx          hexfem vs ccx C3D8/C3D6/C3D4 on the 40x4x4 cantilever, relative differences.
 //   convergence  tet4 / wedge6 / pyramid+tet cantilevers converging towards hex8.
 //   euler        first bending of a slender hex beam vs Euler-Bernoulli.
@@ -28,6 +33,7 @@
 #include "fem/modal_solver.hpp"
 #include "mesher/mesh/conformity.hpp"
 #include "mesher/mesh/error.hpp"
+#include "mesher/mesh/mesh_io.hpp"
 #include "mesher/mesh/structured_box.hpp"
 
 using namespace hexfem;
@@ -200,6 +206,88 @@ int benchmark(const std::vector<std::string>& args) {
                 ccx_cols.c_str(), v[6]);
     std::fflush(stdout);
   }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Fields: dofs, assembly, setup, solve, total, iterations, max residual, f1..f10.
+ChildResult run_path(int k, SolverChoice path, int modes) {
+  return in_child(7 + modes, [&] {
+    const MixedMesh mesh = make_box_mesh({100, 10, 10}, 10 * k, k, k, CellKind::Hex8);
+    const double t0 = now();
+    ModalOptions opt = cantilever_options(modes);
+    opt.solver = path;
+    const ModalResult r = solve_modal(mesh, opt);
+    const double total = now() - t0;
+    std::vector<double> v = {double(r.num_free_dofs),
+                             r.assemble_seconds + r.order_seconds,
+                             r.eigen.setup_seconds,
+                             r.eigen.solve_seconds,
+                             total,
+                             double(r.eigen.iterations),
+                             r.eigen.max_residual};
+    for (double f : r.frequencies) v.push_back(f);
+    return v;
+  });
+}
+
+std::string load_average() {
+  double l[3] = {0, 0, 0};
+  return getloadavg(l, 3) == 3 ? std::to_string(l[0]).substr(0, 4) : "?";
+}
+
+int iterative_study(const std::vector<std::string>& args) {
+  std::vector<int> ks;
+  bool direct = true;
+  for (const std::string& a : args) {
+    if (a == "--no-direct")
+      direct = false;
+    else
+      ks.push_back(std::stoi(a));
+  }
+  if (ks.empty()) ks = {14, 21, 32};
+  const int modes = 10;
+  std::printf(
+      "| mesh (hex8) | DOF | path | assembly s | setup s | solve s | total s | peak MB | "
+      "iterations | residual | load | f1 Hz "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (int k : ks) {
+    ChildResult res[2];
+    const SolverChoice paths[2] = {SolverChoice::Direct, SolverChoice::Iterative};
+    for (int p = direct ? 0 : 1; p < 2; ++p) {
+      const std::string load = load_average();
+      res[p] = run_path(k, paths[p], modes);
+      const auto& v = res[p].values;
+      if (!res[p].ok) {
+        std::printf("| %dx%dx%d | | %s | failed | | | | %.0f | | | %s | |\n", 10 * k, k, k,
+                    p ? "iterative" : "direct", res[p].peak_rss_kb / 1024.0, load.c_str());
+        continue;
+      }
+      std::printf(
+          "| %dx%dx%d | %.0f | %s | %.2f | %.2f | %.2f | %.2f | %.0f | %.0f | %.1e | %s | "
+          "%.4f |\n",
+          10 * k, k, k, v[0], p ? "iterative" : "direct", v[1], v[2], v[3], v[4],
+          res[p].peak_rss_kb / 1024.0, v[5], v[6], load.c_str(), v[7]);
+      std::fflush(stdout);
+    }
+    if (direct && res[0].ok && res[1].ok) {
+      double diff = 0;
+      for (int i = 0; i < modes; ++i)
+        diff = std::max(diff, std::abs(res[1].values[7 + i] / res[0].values[7 + i] - 1));
+      std::printf(
+          "| | | **ratio direct / iterative** | | | | **%.2f x** | **%.2f x** | | max rel. "
+          "diff f1-f10 %.1e | | |\n",
+          res[0].values[4] / res[1].values[4],
+          double(res[0].peak_rss_kb) / double(res[1].peak_rss_kb), diff);
+    }
+  }
+  return 0;
+}
+
+int write_cantilever(const std::vector<std::string>& args) {
+  if (args.size() != 2) throw Error("usage: bench_modal write-mesh k file.msh");
+  const int k = std::stoi(args[0]);
+  write_mesh(make_box_mesh({100, 10, 10}, 10 * k, k, k, CellKind::Hex8), args[1]);
   return 0;
 }
 
@@ -397,6 +485,8 @@ int main(int argc, char** argv) {
   try {
     if (study == "benchmark") return benchmark(args);
     if (study == "ccx") return ccx_study();
+    if (study == "iterative") return iterative_study(args);
+    if (study == "write-mesh") return write_cantilever(args);
     if (study == "convergence") return convergence_study(args);
     if (study == "euler") return euler_study();
     if (study == "fv52") return fv52_study();

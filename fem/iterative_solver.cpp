@@ -1,0 +1,682 @@
+#include "fem/iterative_solver.hpp"
+
+#include <petscksp.h>
+#include <slepceps.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <numeric>
+#include <string>
+
+#include "fem/boundary.hpp"
+#include "fem/element.hpp"
+#include "fem/hex8_incompatible.hpp"
+#include "fem/petsc_env.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/progress.hpp"
+
+namespace hexfem {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kMaxDofs = 3 * kMaxElementNodes;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+#define HEXFEM_PETSC(call) petsc_check((call), #call)
+
+enum Command : int { kQuit = 0, kSolve = 1 };
+
+// Everything but the mesh and the fixed mask that every rank needs for a solve (plain data,
+// broadcast as bytes).
+struct JobParams {
+  int num_modes = 10;
+  int incompatible_hex = 0;
+  double E = 0, nu = 0, rho = 0;
+  double length_scale = 1;
+  IterativeSettings settings;
+};
+
+// What rank 0 gets back (the other ranks discard theirs).
+struct JobOutput {
+  std::vector<double> eigenvalues;
+  Eigen::MatrixXd modes;  // 3 * nodes x modes
+  Eigen::MatrixXd effective_mass_fraction;
+  double free_mass[3] = {0, 0, 0};
+  double total_mass = 0;
+  double sigma = 0;  // the shift of K - σM
+  double assemble_seconds = 0, setup_seconds = 0, solve_seconds = 0;
+  long iterations = 0;
+  double max_residual = 0;
+  double peak_memory_bytes = 0;
+  long num_free = 0, num_fixed = 0;
+};
+
+// The nodes that carry equations (used by a cell, not fixed in all three components) in a
+// Morton (Z-curve) order of their coordinates: neighbours stay close in memory, and cutting the
+// order into contiguous ranges gives compact per-rank parts.
+struct Layout {
+  std::vector<std::int32_t> order;  // position -> node
+  std::vector<std::int32_t> pos;    // node -> position, -1 when the node has no equation
+  std::vector<long> starts;         // first position of each rank, plus the end
+  long begin = 0, end = 0;          // this rank's positions
+  int owner(long p) const {
+    return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), p) - starts.begin()) - 1;
+  }
+};
+
+// Nodes of any element (corners and, at order 2, mid-edge nodes).
+std::vector<std::uint8_t> element_node_mask(const MixedMesh& mesh) {
+  std::vector<std::uint8_t> used(mesh.nodes.size(), 0);
+  for (std::int32_t v : mesh.cell_nodes)
+    if (v >= 0) used[v] = 1;
+  for (std::int32_t v : mesh.cell_edge_nodes)
+    if (v >= 0) used[v] = 1;
+  return used;
+}
+
+std::uint64_t spread_bits(std::uint64_t v) {  // 21 bits -> every third bit of 63
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+Layout make_layout(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, int rank,
+                   int size) {
+  const long nn = static_cast<long>(mesh.nodes.size());
+  const std::vector<std::uint8_t> used = element_node_mask(mesh);
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (long v = 0; v < nn; ++v)
+    if (used[v])
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], mesh.nodes[v][d]);
+        hi[d] = std::max(hi[d], mesh.nodes[v][d]);
+      }
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300});
+  std::vector<std::pair<std::uint64_t, std::int32_t>> keyed;
+  for (long v = 0; v < nn; ++v) {
+    if (!used[v] || (fixed[3 * v] && fixed[3 * v + 1] && fixed[3 * v + 2])) continue;
+    std::uint64_t code = 0;
+    for (int d = 0; d < 3; ++d) {
+      const double t = (mesh.nodes[v][d] - lo[d]) / extent;
+      code |= spread_bits(static_cast<std::uint64_t>(t * 2097151.0)) << d;
+    }
+    keyed.emplace_back(code, static_cast<std::int32_t>(v));
+  }
+  std::sort(keyed.begin(), keyed.end());
+  Layout L;
+  L.pos.assign(nn, -1);
+  L.order.reserve(keyed.size());
+  for (const auto& [code, v] : keyed) {
+    L.pos[v] = static_cast<std::int32_t>(L.order.size());
+    L.order.push_back(v);
+  }
+  const long n = static_cast<long>(L.order.size());
+  if (n < 2L * size)
+    throw Error("mpirun -n " + std::to_string(size) + ": the model has only " + std::to_string(n) +
+                " free nodes; use at most " + std::to_string(n / 2) + " ranks");
+  for (int r = 0; r <= size; ++r) L.starts.push_back(n * r / size);
+  L.begin = L.starts[rank];
+  L.end = L.starts[rank + 1];
+  return L;
+}
+
+// A cell is assembled by the rank owning its first-ordered node; cells without equations
+// (every node clamped) only add their mass, on rank c % size.
+int cell_owner(const MixedMesh& mesh, const Layout& L, long c, int size) {
+  long first = -1;
+  std::int32_t ids[kMaxElementNodes];
+  const int n = mesh.element_nodes(c, ids);
+  for (int k = 0; k < n; ++k)
+    if (const long p = L.pos[ids[k]]; p >= 0 && (first < 0 || p < first)) first = p;
+  return first < 0 ? static_cast<int>(c % size) : L.owner(first);
+}
+
+// Typical K_ii / M_ii from the element matrices of a sample of cells (the same on every rank):
+// the scale of the shift, the zero-eigenvalue floor and the spurious eigenvalue.
+double stiffness_scale(const MixedMesh& mesh, const Material& mat, double length_scale) {
+  const long nc = static_cast<long>(mesh.num_cells());
+  const long step = std::max(1L, nc / 2000);
+  double log_sum = 0;
+  long count = 0;
+  std::vector<double> Ke(kMaxDofs * kMaxDofs), me(kMaxElementNodes * kMaxElementNodes);
+  Vec3 x[kMaxElementNodes];
+  std::int32_t ids[kMaxElementNodes];
+  for (long c = 0; c < nc; c += step) {
+    const ReferenceElement& ref = reference_element(mesh.cell_kind[c], mesh.order);
+    mesh.element_nodes(c, ids);
+    for (int i = 0; i < ref.n; ++i)
+      for (int d = 0; d < 3; ++d) x[i][d] = mesh.nodes[ids[i]][d] * length_scale;
+    if (!(element_matrices(ref, x, mat, Ke.data(), me.data()) > 0)) continue;
+    for (int i = 0; i < 3 * ref.n; ++i) {
+      const double m = me[(i / 3) * ref.n + i / 3];
+      if (m > 0 && Ke[i * 3 * ref.n + i] > 0) {
+        log_sum += std::log(Ke[i * 3 * ref.n + i] / m);
+        ++count;
+      }
+    }
+  }
+  return count ? std::exp(log_sum / count) : 1.0;
+}
+
+struct Matrices {
+  Mat K = nullptr, M = nullptr;
+  ~Matrices() {
+    MatDestroy(&K);
+    MatDestroy(&M);
+  }
+};
+
+// Block preallocation per owned node: neighbours in this rank's range (diagonal part) and
+// outside it; the *_upper counts (position >= own) are for the symmetric M.
+void preallocate(const MixedMesh& mesh, const Layout& L, Mat K, Mat M) {
+  const NodeGraph g = node_graph(mesh);
+  const long nloc = L.end - L.begin;
+  std::vector<PetscInt> d(nloc, 1), o(nloc, 0), du(nloc, 1), ou(nloc, 0);
+  for (long p = L.begin; p < L.end; ++p) {
+    const std::int32_t v = L.order[p];
+    for (long k = g.ptr[v]; k < g.ptr[v + 1]; ++k) {
+      const long q = L.pos[g.adj[k]];
+      if (q < 0) continue;
+      const bool local = q >= L.begin && q < L.end;
+      ++(local ? d : o)[p - L.begin];
+      if (q > p) ++(local ? du : ou)[p - L.begin];
+    }
+  }
+  HEXFEM_PETSC(MatXAIJSetPreallocation(K, 3, d.data(), o.data(), nullptr, nullptr));
+  HEXFEM_PETSC(MatXAIJSetPreallocation(M, 3, d.data(), o.data(), du.data(), ou.data()));
+}
+
+Mat create_matrix(MatType type, long local_rows) {
+  Mat A;
+  HEXFEM_PETSC(MatCreate(PETSC_COMM_WORLD, &A));
+  HEXFEM_PETSC(MatSetSizes(A, 3 * local_rows, 3 * local_rows, PETSC_DETERMINE, PETSC_DETERMINE));
+  HEXFEM_PETSC(MatSetType(A, type));
+  HEXFEM_PETSC(MatSetBlockSize(A, 3));
+  return A;
+}
+
+// Assembles K - σM (positive definite also for a free structure) and M over this rank's cells.
+// DOFs fixed on partly free nodes are decoupled, with K_ii / M_ii = λ_spurious.
+// Returns the mass of the whole mesh.
+double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, const Layout& L,
+                const JobParams& job, double sigma, double lambda_spurious, Matrices& mats) {
+  const int rank = mpi_rank(), size = mpi_size();
+  mats.K = create_matrix(MATAIJ, L.end - L.begin);
+  mats.M = create_matrix(MATSBAIJ, L.end - L.begin);
+  preallocate(mesh, L, mats.K, mats.M);
+  HEXFEM_PETSC(MatSetOption(mats.M, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
+  const Material mat{"", job.E, job.nu, job.rho};
+  std::vector<double> Kv(kMaxDofs * kMaxDofs), mv(kMaxElementNodes * kMaxElementNodes),
+      Mv(kMaxDofs * kMaxDofs);
+  double *Ke = Kv.data(), *me = mv.data(), *Me = Mv.data();
+  Vec3 x[kMaxElementNodes];
+  std::int32_t ids[kMaxElementNodes];
+  PetscInt idx[kMaxElementNodes];
+  double mass = 0, mdiag_sum = 0;
+  long mdiag_count = 0, bad = 0;
+  const long nc = static_cast<long>(mesh.num_cells());
+  for (long c = 0; c < nc; ++c) {
+    if (cell_owner(mesh, L, c, size) != rank) continue;
+    const CellKind kind = mesh.cell_kind[c];
+    const ReferenceElement& ref = reference_element(kind, mesh.order);
+    const int n = ref.n, nd = 3 * n;
+    mesh.element_nodes(c, ids);
+    for (int i = 0; i < n; ++i)
+      for (int d = 0; d < 3; ++d) x[i][d] = mesh.nodes[ids[i]][d] * job.length_scale;
+    if (!(element_matrices(ref, x, mat, Ke, me) > 0) ||
+        (job.incompatible_hex && kind == CellKind::Hex8 && mesh.order == 1 &&
+         !(hex8_incompatible_stiffness(x, mat, Ke) > 0))) {
+      ++bad;
+      continue;
+    }
+    for (int i = 0; i < n * n; ++i) mass += me[i];
+    for (int i = 0; i < nd; ++i)
+      for (int j = 0; j < nd; ++j) {
+        const bool free = !fixed[3 * ids[i / 3] + i % 3] && !fixed[3 * ids[j / 3] + j % 3];
+        const double m = i % 3 == j % 3 ? me[(i / 3) * n + j / 3] : 0.0;
+        Me[i * nd + j] = free ? m : 0.0;
+        Ke[i * nd + j] = free ? Ke[i * nd + j] - sigma * m : 0.0;
+      }
+    for (int i = 0; i < nd; ++i)
+      if (Me[i * nd + i] > 0) {
+        mdiag_sum += Me[i * nd + i];
+        ++mdiag_count;
+      }
+    for (int i = 0; i < n; ++i) idx[i] = L.pos[ids[i]];  // -1: ignored by PETSc
+    HEXFEM_PETSC(MatSetValuesBlocked(mats.K, n, idx, n, idx, Ke, ADD_VALUES));
+    HEXFEM_PETSC(MatSetValuesBlocked(mats.M, n, idx, n, idx, Me, ADD_VALUES));
+  }
+  double local[4] = {mass, mdiag_sum, static_cast<double>(mdiag_count), static_cast<double>(bad)};
+  double global[4];
+  MPI_Allreduce(local, global, 4, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  if (global[3] > 0)
+    throw Error(std::to_string(static_cast<long>(global[3])) +
+                " cell(s) have a non-positive Jacobian determinant: inverted or degenerate");
+  // Partly fixed nodes: the fixed DOF keeps its row, decoupled, with a typical mass (a tiny one
+  // would make LOBPCG's M-Gram matrices ill-conditioned) and eigenvalue λ_spurious.
+  const double m_typical = global[2] > 0 ? global[1] / global[2] : 1.0;
+  for (long p = L.begin; p < L.end; ++p)
+    for (int a = 0; a < 3; ++a)
+      if (fixed[3 * L.order[p] + a]) {
+        const PetscInt row = 3 * p + a;
+        HEXFEM_PETSC(MatSetValue(mats.K, row, row, lambda_spurious * m_typical, ADD_VALUES));
+        HEXFEM_PETSC(MatSetValue(mats.M, row, row, m_typical, ADD_VALUES));
+      }
+  for (Mat A : {mats.K, mats.M}) {
+    HEXFEM_PETSC(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+    HEXFEM_PETSC(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  }
+  return global[0];
+}
+
+// The six rigid-body motions of the owned nodes, for GAMG's aggregates.
+void attach_near_null_space(const MixedMesh& mesh, const Layout& L, double length_scale, Mat K) {
+  Vec coords;
+  HEXFEM_PETSC(VecCreate(PETSC_COMM_WORLD, &coords));
+  HEXFEM_PETSC(VecSetSizes(coords, 3 * (L.end - L.begin), PETSC_DETERMINE));
+  HEXFEM_PETSC(VecSetBlockSize(coords, 3));
+  HEXFEM_PETSC(VecSetFromOptions(coords));
+  PetscScalar* c;
+  HEXFEM_PETSC(VecGetArray(coords, &c));
+  for (long p = L.begin; p < L.end; ++p)
+    for (int d = 0; d < 3; ++d) c[3 * (p - L.begin) + d] = mesh.nodes[L.order[p]][d] * length_scale;
+  HEXFEM_PETSC(VecRestoreArray(coords, &c));
+  MatNullSpace nsp;
+  HEXFEM_PETSC(MatNullSpaceCreateRigidBody(coords, &nsp));
+  HEXFEM_PETSC(MatSetNearNullSpace(K, nsp));
+  HEXFEM_PETSC(MatNullSpaceDestroy(&nsp));
+  HEXFEM_PETSC(VecDestroy(&coords));
+}
+
+// SLEPc's test on each Ritz pair (x M-normalized, res = |Kx - λMx|): relative to |λ|, but
+// against a floor for λ ≈ 0 (rigid-body modes), and scaled by sqrt(mass per DOF) ≈ |Mx| so the
+// tolerance is dimensionless.
+struct ConvergenceScale {
+  double floor = 0, mass_per_dof = 1;
+};
+PetscErrorCode convergence_test(EPS, PetscScalar eigr, PetscScalar, PetscReal res,
+                                PetscReal* errest, void* ctx) {
+  const auto* s = static_cast<const ConvergenceScale*>(ctx);
+  *errest = res / (std::max(std::abs(eigr), s->floor) * std::sqrt(s->mass_per_dof));
+  return 0;
+}
+
+// Progress on stderr (rank 0, terminals only) and the residual reached, for the error message.
+struct Monitor {
+  int nev = 0;
+  double worst = 0;  // largest error estimate among the wanted pairs at the last iteration
+  long iterations = 0;
+};
+PetscErrorCode monitor(EPS, PetscInt its, PetscInt nconv, PetscScalar*, PetscScalar*,
+                       PetscReal* errest, PetscInt nest, void* ctx) {
+  auto* m = static_cast<Monitor*>(ctx);
+  m->iterations = its;
+  m->worst = 0;
+  for (PetscInt i = 0; i < std::min<PetscInt>(nest, m->nev); ++i)
+    m->worst = std::max(m->worst, static_cast<double>(errest[i]));
+  if (mpi_rank() == 0)
+    show_progress("LOBPCG iteration " + std::to_string(its) + ": " + std::to_string(nconv) +
+                  " of " + std::to_string(m->nev) + " modes converged");
+  return 0;
+}
+
+void configure(EPS eps, const JobParams& job, ConvergenceScale* scale, Monitor* mon) {
+  const IterativeSettings& s = job.settings;
+  HEXFEM_PETSC(EPSSetProblemType(eps, EPS_GHEP));
+  HEXFEM_PETSC(EPSSetType(eps, EPSLOBPCG));
+  HEXFEM_PETSC(EPSSetWhichEigenpairs(eps, EPS_SMALLEST_REAL));
+  HEXFEM_PETSC(EPSSetDimensions(eps, job.num_modes, PETSC_DEFAULT, PETSC_DEFAULT));
+  HEXFEM_PETSC(EPSSetTolerances(eps, s.tolerance, s.max_iterations));
+  HEXFEM_PETSC(EPSSetConvergenceTestFunction(eps, convergence_test, scale, nullptr));
+  if (s.block_size > 0) HEXFEM_PETSC(EPSLOBPCGSetBlockSize(eps, s.block_size));
+  HEXFEM_PETSC(EPSMonitorSet(eps, monitor, mon, nullptr));
+  ST st;
+  KSP ksp;
+  PC pc;
+  HEXFEM_PETSC(EPSGetST(eps, &st));
+  HEXFEM_PETSC(STSetType(st, STPRECOND));
+  HEXFEM_PETSC(STGetKSP(st, &ksp));
+  HEXFEM_PETSC(KSPSetType(ksp, KSPPREONLY));
+  HEXFEM_PETSC(KSPGetPC(ksp, &pc));
+  HEXFEM_PETSC(PCSetType(pc, PCGAMG));
+  HEXFEM_PETSC(PCGAMGSetType(pc, PCGAMGAGG));
+  HEXFEM_PETSC(PCGAMGSetNSmooths(pc, s.gamg_smooths));
+  PetscReal threshold[1] = {s.gamg_threshold};
+  HEXFEM_PETSC(PCGAMGSetThreshold(pc, threshold, 1));
+  HEXFEM_PETSC(PCGAMGSetCoarseEqLim(pc, s.gamg_coarse_eq_limit));
+  HEXFEM_PETSC(EPSSetFromOptions(eps));  // PETSC_OPTIONS overrides
+}
+
+// Unit translation along d on the free DOFs.
+void translation(const Layout& L, const std::vector<std::uint8_t>& fixed, int d, Vec r) {
+  PetscScalar* a;
+  HEXFEM_PETSC(VecGetArray(r, &a));
+  for (long p = L.begin; p < L.end; ++p)
+    for (int b = 0; b < 3; ++b)
+      a[3 * (p - L.begin) + b] = (b == d && !fixed[3 * L.order[p] + b]) ? 1.0 : 0.0;
+  HEXFEM_PETSC(VecRestoreArray(r, &a));
+}
+
+std::string failure_message(EPS eps, const JobParams& job, const Monitor& mon, long n) {
+  PetscInt nconv = 0, its = 0;
+  EPSConvergedReason reason;
+  EPSGetConverged(eps, &nconv);
+  EPSGetIterationNumber(eps, &its);
+  EPSGetConvergedReason(eps, &reason);
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "the iterative eigensolver (LOBPCG + GAMG) %s: %ld of %d modes converged after "
+                "%ld iterations, residual reached %.3g (tolerance %.3g, %ld DOFs); try "
+                "--solver direct",
+                reason == EPS_DIVERGED_BREAKDOWN ? "broke down" : "did not converge",
+                static_cast<long>(std::min<PetscInt>(nconv, job.num_modes)), job.num_modes,
+                static_cast<long>(its), mon.worst, job.settings.tolerance, n);
+  return buf;
+}
+
+// The rigid motions no fixed DOF holds (all six for a free structure), as vectors of this
+// rank's rows, M-orthonormal Ritz vectors of (K - σM, M) on their span. They are exact
+// zero-energy modes, so LOBPCG is deflated by them instead of converging to λ ≈ 0, where its
+// Gram matrices lose definiteness.
+struct RigidModes {
+  std::vector<Vec> vectors;
+  Eigen::VectorXd mu;
+  ~RigidModes() {
+    for (Vec& v : vectors) VecDestroy(&v);
+  }
+};
+void rigid_modes(const MixedMesh& mesh, const Layout& L, const std::vector<std::uint8_t>& fixed,
+                 const Matrices& mats, RigidModes& out) {
+  const UnheldRigidMotions u = unheld_rigid_motions(mesh, fixed);
+  const int k = static_cast<int>(u.coefficients.cols());
+  if (k == 0) return;
+  std::vector<Vec> basis(k);
+  for (int j = 0; j < k; ++j) {
+    HEXFEM_PETSC(MatCreateVecs(mats.K, &basis[j], nullptr));
+    PetscScalar* a;
+    HEXFEM_PETSC(VecGetArray(basis[j], &a));
+    for (long p = L.begin; p < L.end; ++p) {
+      const Vec3& x = mesh.nodes[L.order[p]];
+      const Eigen::Vector3d d = (Eigen::Vector3d(x[0], x[1], x[2]) - u.centre) / u.length;
+      for (int b = 0; b < 3; ++b) {
+        double v = u.coefficients(b, j);
+        for (int r = 0; r < 3; ++r)
+          v += u.coefficients(3 + r, j) * Eigen::Vector3d::Unit(r).cross(d)[b];
+        a[3 * (p - L.begin) + b] = fixed[3 * L.order[p] + b] ? 0.0 : v;
+      }
+    }
+    HEXFEM_PETSC(VecRestoreArray(basis[j], &a));
+  }
+  Eigen::MatrixXd A(k, k), B(k, k);
+  Vec w;
+  HEXFEM_PETSC(MatCreateVecs(mats.K, &w, nullptr));
+  for (int j = 0; j < k; ++j) {
+    HEXFEM_PETSC(MatMult(mats.K, basis[j], w));
+    for (int i = 0; i < k; ++i) HEXFEM_PETSC(VecDot(basis[i], w, &A(i, j)));
+    HEXFEM_PETSC(MatMult(mats.M, basis[j], w));
+    for (int i = 0; i < k; ++i) HEXFEM_PETSC(VecDot(basis[i], w, &B(i, j)));
+  }
+  HEXFEM_PETSC(VecDestroy(&w));
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(0.5 * (A + A.transpose()),
+                                                                      0.5 * (B + B.transpose()));
+  out.mu = ges.eigenvalues();
+  for (int i = 0; i < k; ++i) {
+    Vec v;
+    HEXFEM_PETSC(VecDuplicate(basis[0], &v));
+    HEXFEM_PETSC(VecSet(v, 0.0));
+    for (int j = 0; j < k; ++j) HEXFEM_PETSC(VecAXPY(v, ges.eigenvectors()(j, i), basis[j]));
+    out.vectors.push_back(v);
+  }
+  for (Vec& v : basis) VecDestroy(&v);
+}
+
+// Eigenpairs back to λ = μ + σ, M-normalized; residuals with the unshifted K; effective masses;
+// the vectors gathered on rank 0 in node order.
+// mode(i, x) writes eigenvector i into x and returns its eigenvalue μ of (K - σM, M).
+void collect(const std::function<double(int, Vec)>& mode, const Matrices& mats, const Layout& L,
+             const std::vector<std::uint8_t>& fixed, const JobParams& job, double sigma,
+             double lambda_spurious, long num_nodes, JobOutput& out) {
+  const int k = job.num_modes;
+  Vec x, kx, mx, r[3], mr[3], x0;
+  HEXFEM_PETSC(MatCreateVecs(mats.K, &x, &kx));
+  HEXFEM_PETSC(VecDuplicate(x, &mx));
+  for (int d = 0; d < 3; ++d) {
+    HEXFEM_PETSC(VecDuplicate(x, &r[d]));
+    HEXFEM_PETSC(VecDuplicate(x, &mr[d]));
+    translation(L, fixed, d, r[d]);
+    HEXFEM_PETSC(MatMult(mats.M, r[d], mr[d]));
+    HEXFEM_PETSC(VecDot(r[d], mr[d], &out.free_mass[d]));
+  }
+  VecScatter to_zero;
+  HEXFEM_PETSC(VecScatterCreateToZero(x, &to_zero, &x0));
+  const bool root = mpi_rank() == 0;
+  if (root) out.modes = Eigen::MatrixXd::Zero(3 * num_nodes, k);
+  out.effective_mass_fraction.resize(k, 3);
+  std::vector<double> rel_residual(k);
+  for (int i = 0; i < k; ++i) {
+    const double mu = mode(i, x);
+    if (mu > 0.5 * lambda_spurious)
+      throw Error("mode " + std::to_string(i + 1) +
+                  " reaches the eigenvalue given to DOFs fixed on partly free nodes; ask for "
+                  "fewer modes or use --solver direct");
+    out.eigenvalues.push_back(mu + sigma);
+    PetscScalar xmx;
+    HEXFEM_PETSC(MatMult(mats.M, x, mx));
+    HEXFEM_PETSC(VecDot(x, mx, &xmx));
+    HEXFEM_PETSC(VecScale(x, 1.0 / std::sqrt(xmx)));
+    HEXFEM_PETSC(VecScale(mx, 1.0 / std::sqrt(xmx)));
+    HEXFEM_PETSC(MatMult(mats.K, x, kx));  // (K - σM)x - μMx = Kx - λMx
+    HEXFEM_PETSC(VecAXPY(kx, -mu, mx));
+    PetscReal rn, mn;
+    HEXFEM_PETSC(VecNorm(kx, NORM_2, &rn));
+    HEXFEM_PETSC(VecNorm(mx, NORM_2, &mn));
+    rel_residual[i] = rn / mn;
+    for (int d = 0; d < 3; ++d) {
+      PetscScalar gamma;
+      HEXFEM_PETSC(VecDot(x, mr[d], &gamma));
+      out.effective_mass_fraction(i, d) = gamma * gamma / out.total_mass;
+    }
+    HEXFEM_PETSC(VecScatterBegin(to_zero, x, x0, INSERT_VALUES, SCATTER_FORWARD));
+    HEXFEM_PETSC(VecScatterEnd(to_zero, x, x0, INSERT_VALUES, SCATTER_FORWARD));
+    if (root) {
+      const PetscScalar* a;
+      HEXFEM_PETSC(VecGetArrayRead(x0, &a));
+      for (std::size_t p = 0; p < L.order.size(); ++p)
+        for (int b = 0; b < 3; ++b)
+          if (!fixed[3 * L.order[p] + b]) out.modes(3 * L.order[p] + b, i) = a[3 * p + b];
+      HEXFEM_PETSC(VecRestoreArrayRead(x0, &a));
+    }
+  }
+  // As the direct path: against the top of the computed spectrum (or |σ|).
+  const double top = std::max(std::abs(out.eigenvalues.back()), std::abs(sigma));
+  for (double rr : rel_residual) out.max_residual = std::max(out.max_residual, rr / top);
+  VecScatterDestroy(&to_zero);
+  for (Vec* v : {&x, &kx, &mx, &x0, &r[0], &r[1], &r[2], &mr[0], &mr[1], &mr[2]}) VecDestroy(v);
+}
+
+// The collective solve: every rank calls it with the same mesh, mask and parameters.
+JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
+                            const JobParams& job) {
+  const int rank = mpi_rank(), size = mpi_size();
+  const IterativeSettings& s = job.settings;
+  JobOutput out;
+  auto t0 = Clock::now();
+  const Layout L = make_layout(mesh, fixed, rank, size);
+  const long n = 3 * static_cast<long>(L.order.size());
+  if (job.num_modes >= n)
+    throw Error("requested " + std::to_string(job.num_modes) + " modes but the model has only " +
+                std::to_string(n) + " DOFs");
+  const Material mat{"", job.E, job.nu, job.rho};
+  const double lambda_scale = stiffness_scale(mesh, mat, job.length_scale);
+  const double sigma = -s.shift_fraction * lambda_scale;
+  const double lambda_spurious = s.spurious_factor * lambda_scale;
+  out.sigma = sigma;
+  Matrices mats;
+  out.total_mass = assemble(mesh, fixed, L, job, sigma, lambda_spurious, mats);
+  attach_near_null_space(mesh, L, job.length_scale, mats.K);
+  out.assemble_seconds = seconds_since(t0);
+
+  RigidModes rigid;
+  rigid_modes(mesh, L, fixed, mats, rigid);
+  const int num_rigid = static_cast<int>(rigid.vectors.size());
+  const int nev = job.num_modes - std::min(num_rigid, job.num_modes);
+  t0 = Clock::now();
+  EPS eps;
+  HEXFEM_PETSC(EPSCreate(PETSC_COMM_WORLD, &eps));
+  struct EpsGuard {
+    EPS& e;
+    ~EpsGuard() { EPSDestroy(&e); }
+  } guard{eps};
+  if (nev > 0) {
+    HEXFEM_PETSC(EPSSetOperators(eps, mats.K, mats.M));
+    if (num_rigid > 0) HEXFEM_PETSC(EPSSetDeflationSpace(eps, num_rigid, rigid.vectors.data()));
+    ConvergenceScale scale{s.floor_fraction * lambda_scale, out.total_mass / std::max(1L, n)};
+    Monitor mon{nev};
+    JobParams elastic = job;
+    elastic.num_modes = nev;
+    configure(eps, elastic, &scale, &mon);
+    HEXFEM_PETSC(EPSSetUp(eps));
+    out.setup_seconds = seconds_since(t0);
+    t0 = Clock::now();
+    const PetscErrorCode solved = EPSSolve(eps);
+    if (rank == 0) end_progress();
+    HEXFEM_PETSC(solved);
+    out.solve_seconds = seconds_since(t0);
+    PetscInt nconv = 0, its = 0;
+    HEXFEM_PETSC(EPSGetConverged(eps, &nconv));
+    HEXFEM_PETSC(EPSGetIterationNumber(eps, &its));
+    out.iterations = its;
+    if (nconv < nev) throw Error(failure_message(eps, elastic, mon, n));
+  }
+  const auto mode = [&](int i, Vec x) -> double {
+    if (i < num_rigid) {
+      HEXFEM_PETSC(VecCopy(rigid.vectors[i], x));
+      return rigid.mu[i];
+    }
+    PetscScalar mu;
+    HEXFEM_PETSC(EPSGetEigenpair(eps, i - num_rigid, &mu, nullptr, x, nullptr));
+    return mu;
+  };
+  collect(mode, mats, L, fixed, job, sigma, lambda_spurious, static_cast<long>(mesh.nodes.size()),
+          out);
+  const double peak = peak_rss_bytes();
+  MPI_Allreduce(&peak, &out.peak_memory_bytes, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  return out;
+}
+
+// Rank 0 sends what the others need; MPI_Bcast does not write the root's buffers.
+void send_job(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, JobParams job) {
+  int cmd = kSolve;
+  broadcast_bytes(&cmd, sizeof cmd);
+  broadcast_vector(const_cast<std::vector<Vec3>&>(mesh.nodes));
+  broadcast_vector(const_cast<std::vector<CellKind>&>(mesh.cell_kind));
+  broadcast_vector(const_cast<std::vector<std::int32_t>&>(mesh.cell_nodes));
+  broadcast_vector(const_cast<std::vector<std::int32_t>&>(mesh.cell_edge_nodes));
+  broadcast_bytes(const_cast<int*>(&mesh.order), sizeof mesh.order);
+  broadcast_vector(const_cast<std::vector<std::uint8_t>&>(fixed));
+  broadcast_bytes(&job, sizeof job);
+}
+
+void receive_job(MixedMesh& mesh, std::vector<std::uint8_t>& fixed, JobParams& job) {
+  broadcast_vector(mesh.nodes);
+  broadcast_vector(mesh.cell_kind);
+  broadcast_vector(mesh.cell_nodes);
+  broadcast_vector(mesh.cell_edge_nodes);
+  broadcast_bytes(&mesh.order, sizeof mesh.order);
+  broadcast_vector(fixed);
+  broadcast_bytes(&job, sizeof job);
+}
+
+}  // namespace
+
+ModalResult solve_modal_iterative(const MixedMesh& mesh, const ModalOptions& options,
+                                  const std::vector<std::uint8_t>& fixed) {
+  ensure_petsc();
+  JobParams job;
+  job.num_modes = options.num_modes;
+  job.incompatible_hex = options.incompatible_hex;
+  job.E = options.material.E;
+  job.nu = options.material.nu;
+  job.rho = options.material.rho;
+  job.length_scale = options.length_scale;
+  job.settings = options.iterative;
+  if (mpi_size() > 1) send_job(mesh, fixed, job);
+  JobOutput o = solve_distributed(mesh, fixed, job);
+
+  ModalResult r;
+  const std::vector<std::uint8_t> used = element_node_mask(mesh);
+  for (std::size_t i = 0; i < fixed.size(); ++i)
+    if (used[i / 3]) ++(fixed[i] ? r.num_fixed_dofs : r.num_free_dofs);
+  r.num_cells = static_cast<long>(mesh.num_cells());
+  r.num_nodes = static_cast<long>(mesh.nodes.size());
+  r.total_mass = o.total_mass;
+  r.volume = o.total_mass / options.material.rho;
+  for (int d = 0; d < 3; ++d) r.free_mass[d] = o.free_mass[d];
+  r.assemble_seconds = o.assemble_seconds;
+  r.eigenvalues = o.eigenvalues;
+  for (double lam : o.eigenvalues)
+    r.frequencies.push_back(std::copysign(std::sqrt(std::abs(lam)) / (2 * M_PI), lam));
+  r.modes = std::move(o.modes);
+  r.effective_mass_fraction = std::move(o.effective_mass_fraction);
+  EigenResult& e = r.eigen;
+  e.method = "iterative";
+  e.eigenvalues = Eigen::Map<const Eigen::VectorXd>(o.eigenvalues.data(), o.eigenvalues.size());
+  e.sigma = o.sigma;
+  e.setup_seconds = o.setup_seconds;
+  e.solve_seconds = o.solve_seconds;
+  e.iterations = o.iterations;
+  e.max_residual = o.max_residual;
+  e.peak_memory_bytes = o.peak_memory_bytes;
+  e.ranks = mpi_size();
+  return r;
+}
+
+MpiSession::MpiSession() {
+  if (!under_mpi_launcher()) return;
+  try {
+    ensure_petsc();
+  } catch (const Error& e) {
+    std::fprintf(stderr, "hexfem: error: %s\n", e.what());
+    std::exit(1);
+  }
+}
+
+MpiSession::~MpiSession() {
+  if (mpi_size() > 1 && mpi_rank() == 0) {
+    int cmd = kQuit;
+    broadcast_bytes(&cmd, sizeof cmd);
+  }
+}
+
+bool MpiSession::is_root() const {
+  return mpi_rank() == 0;
+}
+
+int MpiSession::serve() {
+  for (;;) {
+    int cmd = kQuit;
+    broadcast_bytes(&cmd, sizeof cmd);
+    if (cmd != kSolve) return 0;
+    MixedMesh mesh;
+    std::vector<std::uint8_t> fixed;
+    JobParams job;
+    receive_job(mesh, fixed, job);
+    try {
+      solve_distributed(mesh, fixed, job);
+    } catch (const std::exception&) {
+      // Rank 0 meets the same failure and reports it.
+    }
+  }
+}
+
+}  // namespace hexfem

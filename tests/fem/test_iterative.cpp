@@ -1,0 +1,120 @@
+// The iterative path (SLEPc LOBPCG + GAMG) against the direct one (CHOLMOD + Spectra) on the
+// same meshes: clamped, free-free, partly fixed nodes, mixed kinds; and its failures.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "fem/modal_solver.hpp"
+#include "mesher/mesh/error.hpp"
+#include "mesher/mesh/structured_box.hpp"
+
+namespace hexfem {
+namespace {
+
+ModalOptions steel(int modes, std::vector<std::string> fix, SolverChoice solver) {
+  ModalOptions opt;
+  opt.material = Material{"steel", 210e9, 0.3, 7850};
+  opt.fix = std::move(fix);
+  opt.num_modes = modes;
+  opt.length_scale = 1e-3;
+  opt.solver = solver;
+  return opt;
+}
+
+// Frequencies of both paths; the elastic ones (above `zero` Hz) within 1e-6 relative, the
+// rigid ones (below) counted on both. Returns the largest relative difference.
+double compare(const MixedMesh& mesh, ModalOptions opt, const char* name, double zero = 1.0) {
+  opt.solver = SolverChoice::Direct;
+  const ModalResult d = solve_modal(mesh, opt);
+  opt.solver = SolverChoice::Iterative;
+  const ModalResult it = solve_modal(mesh, opt);
+  EXPECT_EQ(it.eigen.method, "iterative");
+  EXPECT_EQ(it.frequencies.size(), d.frequencies.size());
+  double worst = 0;
+  int rigid_d = 0, rigid_it = 0;
+  for (std::size_t i = 0; i < d.frequencies.size() && i < it.frequencies.size(); ++i) {
+    rigid_d += std::abs(d.frequencies[i]) < zero;
+    rigid_it += std::abs(it.frequencies[i]) < zero;
+    if (std::abs(d.frequencies[i]) < zero) continue;
+    const double rel = std::abs(it.frequencies[i] / d.frequencies[i] - 1);
+    worst = std::max(worst, rel);
+    EXPECT_LT(rel, 1e-6) << name << " mode " << i + 1 << ": " << it.frequencies[i] << " vs "
+                         << d.frequencies[i];
+  }
+  EXPECT_EQ(rigid_it, rigid_d) << name << ": rigid-body modes";
+  EXPECT_NEAR(it.total_mass, d.total_mass, 1e-12 * d.total_mass);
+  EXPECT_EQ(it.num_free_dofs, d.num_free_dofs);
+  // Effective masses of simple modes (a pair of equal frequencies splits them arbitrarily).
+  const auto simple = [&](std::size_t i) {
+    const auto& f = d.frequencies;
+    return std::abs(f[i]) >= zero && i + 1 < f.size() && std::abs(f[i + 1] / f[i] - 1) > 1e-6 &&
+           (i == 0 || std::abs(f[i - 1] / f[i] - 1) > 1e-6);
+  };
+  for (std::size_t i = 0; i < d.frequencies.size() && i < it.frequencies.size(); ++i) {
+    if (!simple(i)) continue;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(it.effective_mass_fraction(i, c), d.effective_mass_fraction(i, c), 1e-6)
+          << name << " mode " << i + 1;
+  }
+  std::printf("%-34s %7ld DOFs: %d rigid, max rel. diff %.1e, %ld its, residual %.1e\n", name,
+              it.num_free_dofs, rigid_it, worst, it.eigen.iterations, it.eigen.max_residual);
+  return worst;
+}
+
+TEST(Iterative, ClampedCantileverMatchesDirect) {
+  const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
+  compare(mesh, steel(10, {"face:1"}, SolverChoice::Iterative), "cantilever 40x4x4 clamped");
+}
+
+TEST(Iterative, FreeFreeFindsSixRigidModes) {
+  const MixedMesh mesh = make_box_mesh({100, 10, 10}, 30, 3, 3, CellKind::Hex8);
+  ModalOptions opt = steel(12, {}, SolverChoice::Iterative);
+  const ModalResult r = solve_modal(mesh, opt);
+  int rigid = 0;
+  for (double f : r.frequencies) rigid += std::abs(f) < 1e-6 * r.frequencies[6];
+  EXPECT_EQ(rigid, 6);
+  compare(mesh, opt, "cantilever 30x3x3 free-free");
+}
+
+TEST(Iterative, PartlyFixedNodesAndMixedKindsMatchDirect) {
+  // Only u_z fixed on two edge lines: nodes with one fixed DOF stay in the block matrices.
+  const MixedMesh plate = make_box_mesh({100, 100, 10}, 10, 10, 2, CellKind::Hex8);
+  compare(plate,
+          steel(8, {"z<1e-6&x<1e-6@z", "z<1e-6&x>99.999@z", "z<1e-6&y<1e-6@z"},
+                SolverChoice::Iterative),
+          "plate, u_z on three edges");
+  for (CellKind kind : {CellKind::Tet4, CellKind::Pyramid5, CellKind::Wedge6}) {
+    const MixedMesh m = make_box_mesh({100, 10, 10}, 20, 2, 2, kind);
+    compare(m, steel(6, {"x<1e-6"}, SolverChoice::Iterative),
+            (std::string("cantilever 20x2x2 ") + kind_name(kind)).c_str());
+  }
+}
+
+TEST(Iterative, NonConvergenceIsAnErrorWithTheResidual) {
+  const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
+  ModalOptions opt = steel(10, {"face:1"}, SolverChoice::Iterative);
+  opt.iterative.max_iterations = 3;
+  try {
+    solve_modal(mesh, opt);
+    FAIL() << "3 iterations cannot converge";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("did not converge"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("residual reached"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+}
+
+TEST(Iterative, AutoPicksDirectForSmallModelsAndSaysWhy) {
+  const MixedMesh mesh = make_box_mesh({100, 10, 10}, 10, 2, 2, CellKind::Hex8);
+  const ModalResult r = solve_modal(mesh, steel(4, {"face:1"}, SolverChoice::Auto));
+  EXPECT_EQ(r.eigen.method, "direct");
+  EXPECT_NE(r.solver_reason.find("auto: direct"), std::string::npos) << r.solver_reason;
+  EXPECT_THROW(solver_choice_from_option("cg"), Error);
+}
+
+}  // namespace
+}  // namespace hexfem
