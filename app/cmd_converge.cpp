@@ -63,8 +63,8 @@ int run(const ConvergeArgs& a) {
     row.seconds = r.mesh_seconds + r.solve_seconds;
     row.frequencies = r.modal.frequencies;
     solvers.emplace_back(r.modal.eigen.method, r.modal.solver_reason);
-    std::fprintf(stderr, "converge: h = %g: %ld cells, H_vol %.2f %%, f1 %.3f Hz (%.1f s, %s)\n", row.h,
-                 row.cells, row.h_vol, row.frequencies.empty() ? 0.0 : row.frequencies[0],
+    std::fprintf(stderr, "converge: h = %g: %ld cells, H_vol %.2f %%, f1 %.3f Hz (%.1f s, %s)\n",
+                 row.h, row.cells, row.h_vol, row.frequencies.empty() ? 0.0 : row.frequencies[0],
                  row.seconds, r.modal.solver_reason.c_str());
     study.rows.push_back(std::move(row));
   }

@@ -22,8 +22,8 @@ struct ModalCliOptions {
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;
 };
 
-// Declares --fix --material --E --nu --rho --modes --hex8 --solver --force on `sub`; `o.modes` holds the
-// default number of modes.
+// Declares --fix --material --E --nu --rho --modes --hex8 --solver --force on `sub`; `o.modes`
+// holds the default number of modes.
 void add_modal_options(CLI::App& sub, ModalCliOptions& o);
 
 // Checks every value (material and its overrides finite and physical, --modes >= 1, --hex8, the

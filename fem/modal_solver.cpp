@@ -284,8 +284,9 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
     for (std::size_t i = 0; i < fixed.size(); ++i) free_dofs += used[i / 3] && !fixed[i];
     if (free_dofs == 0) throw Error("every DOF is fixed: nothing to analyse");
     if (options.num_modes >= free_dofs)
-      throw Error("requested " + std::to_string(options.num_modes) +
-                  " modes but the model has only " + std::to_string(free_dofs) + " free DOFs");
+      throw Error("requested " + std::to_string(options.num_modes) + " modes but the model has " +
+                  std::to_string(free_dofs) + " free DOFs (at most " +
+                  std::to_string(free_dofs - 1) + " modes)");
     if (path == SolverChoice::Auto) path = pick_solver(free_dofs, reason);
     if (path == SolverChoice::Iterative) {
       ModalResult r = solve_modal_iterative(mesh, options, fixed);
