@@ -6,6 +6,7 @@
 #include <GeomLProp_SLProps.hxx>
 #include <Standard_Failure.hxx>
 #include <TopoDS.hxx>
+#include <algorithm>
 #include <cmath>
 #include <gp_Pnt2d.hxx>
 
@@ -138,36 +139,67 @@ const std::vector<int>& CadModel::solids_of_face(int f) const {
   return at(impl_->faces, f, "face").solids;
 }
 
+namespace {
+
+// Runs an evaluation of face f's surface at uv. OpenCASCADE throws (Standard_OutOfRange in
+// Geom_BSplineSurface::D0) for some surfaces at parameters just outside their knot range, which
+// the packing and the edge walks reach; the point is then taken at uv clamped to the surface's
+// own bounds, and anything else becomes a one-line hexfem::Error naming the face.
+template <class Eval>
+auto evaluate(const FaceData& d, int f, Vec2 uv, Eval eval) {
+  try {
+    return eval(uv);
+  } catch (const Standard_Failure&) {
+  }
+  double u1 = 0, u2 = 0, v1 = 0, v2 = 0;
+  d.surface->Bounds(u1, u2, v1, v2);
+  const Vec2 clamped{std::clamp(uv[0], u1, u2), std::clamp(uv[1], v1, v2)};
+  try {
+    return eval(clamped);
+  } catch (const Standard_Failure& e) {
+    throw Error("face " + std::to_string(f) + ": OpenCASCADE cannot evaluate its surface at (" +
+                std::to_string(uv[0]) + ", " + std::to_string(uv[1]) + "): " +
+                e.GetMessageString());
+  }
+}
+
+}  // namespace
+
 SurfaceDerivs CadModel::eval(int f, Vec2 uv) const {
   const auto& d = at(impl_->faces, f, "face");
-  gp_Pnt p;
-  gp_Vec du, dv;
-  d.surface->D1(uv[0], uv[1], p, du, dv);
-  return {to_vec(p), to_vec(du), to_vec(dv)};
+  return evaluate(d, f, uv, [&](Vec2 q) {
+    gp_Pnt p;
+    gp_Vec du, dv;
+    d.surface->D1(q[0], q[1], p, du, dv);
+    return SurfaceDerivs{to_vec(p), to_vec(du), to_vec(dv)};
+  });
 }
 
 Vec3 CadModel::point(int f, Vec2 uv) const {
-  return to_vec(at(impl_->faces, f, "face").surface->Value(uv[0], uv[1]));
+  const auto& d = at(impl_->faces, f, "face");
+  return evaluate(d, f, uv, [&](Vec2 q) { return to_vec(d.surface->Value(q[0], q[1])); });
 }
 
 Vec3 CadModel::normal(int f, Vec2 uv) const {
   const auto& d = at(impl_->faces, f, "face");
-  gp_Pnt p;
-  gp_Vec du, dv;
-  d.surface->D1(uv[0], uv[1], p, du, dv);
-  gp_Vec n = du.Crossed(dv);
-  const double len = n.Magnitude();
-  if (len < 1e-300) {
-    // Singular point (pole, apex): the curvature-based normal from the second derivatives.
-    GeomLProp_SLProps props(d.surface, uv[0], uv[1], 1, 1e-9);
-    if (!props.IsNormalDefined()) return {0, 0, 0};
-    gp_Dir nd = props.Normal();
-    if (d.reversed) nd.Reverse();
-    return {nd.X(), nd.Y(), nd.Z()};
-  }
-  n /= len;
-  if (d.reversed) n.Reverse();
-  return to_vec(n);
+  return evaluate(d, f, uv, [&](Vec2 q) -> Vec3 {
+    gp_Pnt p;
+    gp_Vec du, dv;
+    d.surface->D1(q[0], q[1], p, du, dv);
+    gp_Vec n = du.Crossed(dv);
+    const double len = n.Magnitude();
+    if (len < 1e-300) {
+      // Singular point (pole, apex): the curvature-based normal from the second derivatives.
+      GeomLProp_SLProps props(d.surface, q[0], q[1], 1, 1e-9);
+      if (!props.IsNormalDefined()) return {0, 0, 0};
+      gp_Dir nd = props.Normal();
+      if (d.reversed) nd.Reverse();
+      return {nd.X(), nd.Y(), nd.Z()};
+    }
+    n /= len;
+    if (d.reversed) n.Reverse();
+    return to_vec(n);
+  });
 }
 
 double CadModel::max_curvature(int f, Vec2 uv) const {

@@ -144,6 +144,23 @@ TEST(SurfaceMesh, SingularPointsAndSeveralSolids) {
   EXPECT_EQ(s.faces_of_solid.size(), 19u);
 }
 
+// The Rhino sphere (radius 1) at h = 2 and 0.8: the packing steps past the B-spline's knot range,
+// where OpenCASCADE threw on an OpenMP thread and the process aborted (issue 14). Now the
+// surface is meshed: a closed solid of a few triangles.
+TEST(SurfaceMesh, CoarseBSplineSphereIsMeshedNotAborted) {
+  const CadModel cad = CadModel::read(data("sphere_Rhino3D_default.igs"));
+  for (double h : {2.0, 0.8}) {
+    SurfaceOptions opt;
+    opt.h = h;
+    SurfaceMesh s;
+    ASSERT_NO_THROW(s = mesh_surface(cad, opt)) << h;
+    const auto checks = check_solids(s);
+    ASSERT_EQ(checks.size(), 1u);
+    EXPECT_TRUE(checks[0].ok()) << h;
+    EXPECT_GT(checks[0].volume, 0.5);  // a coarse polyhedron inside the unit sphere
+  }
+}
+
 TEST(SurfaceMesh, HolesCoarserThanTheSizeStayManifold) {
   // The control arm at h = diagonal / 50 (6 mm): its 6 mm bores get three points per turn, so
   // a chord from a seam node is drawn from both sides of the seam (four triangles on one
