@@ -36,6 +36,7 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
   j["tets_in_elements"] = r.tets_in_elements;
   j["flat_boundary_tets"] = r.flat_boundary_tets;
   j["dissolved_pyramids"] = r.dissolved_pyramids;
+  j["flat_fallback_undone"] = r.flat_fallback_undone;
   j["sliver_flips"] = r.sliver_flips;
   j["flipped_tets"] = r.flipped_tets;
   j["tets_from_flips"] = r.tets_from_flips;
@@ -94,6 +95,9 @@ std::string volume_report_text(const VolumeReport& r) {
       r.sliver_flips, r.flipped_tets, r.tets_from_flips, r.slivers_left, r.flat_boundary_tets);
   if (r.lifted_cells)
     line("lifted          %zu slivers by moving one interior vertex each", r.lifted_cells);
+  if (r.flat_fallback_undone)
+    line("flat fallback   %zu elements at a flat tet's edges back to tets, flips again",
+         r.flat_fallback_undone);
   line("elements        %zu: hex %zu, prism %zu, pyramid %zu, tet %zu", r.stats.num_cells,
        r.stats.cells_per_kind[static_cast<int>(CellKind::Hex8)],
        r.stats.cells_per_kind[static_cast<int>(CellKind::Wedge6)],

@@ -180,6 +180,9 @@ MixedMesh assemble(const SurfaceMesh& surface, const RecombineState& s, const Sl
 void fill_report(const RecombineState& s, const MixedMesh& mesh,
                  const std::vector<CellFaceRef>& faces, VolumeReport& r) {
   r.absorbed_slivers = s.absorbed.size();
+  r.tets_in_elements = 0;
+  r.volume_tets = r.volume_elements_gap = r.volume_absorbed = 0;
+  r.boundary_quads = r.boundary_triangles = 0;
   for (const Candidate& e : s.elements)
     for (std::int32_t t : e.tets) r.tets_in_elements += t >= 0;
   for (std::size_t t = 0; t < s.used.size(); ++t) r.volume_tets += s.topo.tet_volume(t);
@@ -191,6 +194,32 @@ void fill_report(const RecombineState& s, const MixedMesh& mesh,
       r.volume_tets > 0 ? std::abs(r.stats.volume - r.volume_tets) / r.volume_tets : 0;
   for (std::size_t f = 0; f < mesh.num_bfaces(); ++f)
     ++(mesh.bface_is_quad(f) ? r.boundary_quads : r.boundary_triangles);
+}
+
+// The tail of the pipeline: sliver flips, the check that each tet is in one place, assembly,
+// NC flags, the lift of the slivers left, and the report's figures.
+MixedMesh finish_mesh(RecombineState& s, const SurfaceMesh& surface, const VolumeOptions& options,
+                      StageTimer& timer, VolumeReport& r) {
+  const SliverFlips flips = flip_slivers(s);
+  r.sliver_flips = flips.flips;
+  r.flipped_tets = flips.removed.size();
+  r.tets_from_flips = flips.added.size();
+  r.slivers_left = flips.slivers_left;
+  r.stages.push_back(timer.lap("sliver flips"));
+
+  // Each TetGen tet in exactly one place, or the mesh would overlap or drop volume.
+  s.verify(flips.removed);
+  MixedMesh mesh = assemble(surface, s, flips);
+  // The cell faces, sorted once for the NC flags and the statistics (moving vertices below keeps
+  // them).
+  const std::vector<CellFaceRef> faces = sorted_cell_faces(mesh);
+  flag_nonconformal_quads(mesh, faces);
+  r.lifted_cells = lift_slivers(mesh, s.topo.num_surface_nodes(), options.flat_tet_quality);
+  r.stages.push_back(timer.lap("assembly + NC"));
+
+  fill_report(s, mesh, faces, r);
+  r.stages.push_back(timer.lap("statistics"));
+  return mesh;
 }
 
 }  // namespace
@@ -239,25 +268,23 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   for (int k = 0; k < kNumCellKinds; ++k) r.gap_undone[k] = vg.undone[k];
   r.stages.push_back(timer.lap("volume gap"));
 
-  const SliverFlips flips = flip_slivers(s);
-  r.sliver_flips = flips.flips;
-  r.flipped_tets = flips.removed.size();
-  r.tets_from_flips = flips.added.size();
-  r.slivers_left = flips.slivers_left;
-  r.stages.push_back(timer.lap("sliver flips"));
-
-  // Each TetGen tet in exactly one place, or the mesh would overlap or drop volume.
-  s.verify(flips.removed);
-  MixedMesh mesh = assemble(surface, s, flips);
-  // The cell faces, sorted once for the NC flags and the statistics (moving vertices below keeps
-  // them).
-  const std::vector<CellFaceRef> faces = sorted_cell_faces(mesh);
-  flag_nonconformal_quads(mesh, faces);
-  r.lifted_cells = lift_slivers(mesh, topo.num_surface_nodes(), options.flat_tet_quality);
-  r.stages.push_back(timer.lap("assembly + NC"));
-
-  fill_report(s, mesh, faces, r);
-  r.stages.push_back(timer.lap("statistics"));
+  // Where the flips and the lift leave a flat cell (a sliver of four surface vertices boxed in by
+  // elements the NC repair made), the elements holding its edges go back to tets and the tail
+  // runs again from the same state: a local fallback, counted in the report. Meshes without a
+  // flat cell never take it.
+  const std::vector<Candidate> elements_before = s.elements;
+  const std::vector<std::int32_t> absorbed_before = s.absorbed;
+  const std::vector<char> used_before = s.used;
+  MixedMesh mesh = finish_mesh(s, surface, options, timer, r);
+  if (r.stats.degenerate > 0) {
+    s.elements = elements_before;
+    s.absorbed = absorbed_before;
+    s.used = used_before;
+    r.flat_fallback_undone = dissolve_pyramids_next_to_slivers(s);
+    release_orphan_slivers(s);
+    r.stages.push_back(timer.lap("flat-cell fallback"));
+    mesh = finish_mesh(s, surface, options, timer, r);
+  }
   r.total_seconds = timer.total_seconds();
   r.total_cpu_seconds = timer.total_cpu_seconds();
   return mesh;

@@ -68,6 +68,9 @@ struct VolumeReport {
   // Slivers left at the end, improved by moving one interior vertex (lift_slivers).
   std::size_t lifted_cells = 0;
   std::size_t dissolved_pyramids = 0;  // pyramids (and prisms) by slivers turned back into tets
+  // Elements at the edges of a flat tet turned back into tets when the first try left a flat
+  // cell (the flat-cell fallback; 0 when it did not run).
+  std::size_t flat_fallback_undone = 0;
   std::size_t hex_candidates = 0, prism_candidates = 0, pyramid_candidates = 0;
   std::size_t boundary_triangles = 0, boundary_quads = 0;
   // gap = |V(mixed) - V(tets)| / V(tets), V(mixed) = stats.volume.

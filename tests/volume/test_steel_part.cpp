@@ -90,3 +90,49 @@ TEST(Cone, NcRepairFreesNoFlatSliver) {
 
 }  // namespace
 }  // namespace hexfem
+
+namespace hexfem {
+namespace {
+
+// The tie rod (inch) at h = bounding-box diagonal / 30: a flat tet of four coplanar surface
+// vertices stayed boxed in by pyramids the NC repair made, so no flip or lift could remove it and
+// the mesh was refused for a flat cell (issue 14). The fallback undoes the elements at its
+// edges and flips again.
+TEST(TieRod, FlatCellFallbackLeavesNoFlatCell) {
+  MeshOptions o;
+  o.surface.h = 4.27121;
+  o.surface.repair = false;  // the mesh at this h, not the one meshed again for its volume
+  MeshReport r;
+  const MixedMesh m = mesh_file(std::string(HEXFEM_TEST_DATA) + "/tie_rod.step", o, &r);
+  const MeshStats st = compute_stats(m);
+  EXPECT_EQ(st.inverted, 0u);
+  EXPECT_EQ(st.degenerate, 0u);
+  EXPECT_TRUE(st.watertight);
+  EXPECT_GT(r.volume.flat_fallback_undone, 0u);  // the fallback is what made it valid
+  EXPECT_NEAR(st.volume, r.volume.volume_tets, 1e-3 * r.volume.volume_tets);
+}
+
+}  // namespace
+}  // namespace hexfem
+
+namespace hexfem {
+namespace {
+
+// The same rod at h = diagonal / 30 loses 18.7 % of its volume to the chords of its 11 mm
+// shank; the mesher meshes it again with a curvature bound and says so.
+TEST(TieRod, CoarseSizeIsMeshedAgainWithACurvatureBound) {
+  MeshOptions o;
+  o.surface.h = 4.27121;
+  MeshReport r;
+  const MixedMesh m = mesh_file(std::string(HEXFEM_TEST_DATA) + "/tie_rod.step", o, &r);
+  const CadModel cad = CadModel::read(std::string(HEXFEM_TEST_DATA) + "/tie_rod.step");
+  const MeshStats st = compute_stats(m);
+  EXPECT_EQ(st.degenerate + st.inverted, 0u);
+  EXPECT_LT(std::abs(st.volume - cad.volume()) / cad.volume(), 0.05);
+  EXPECT_EQ(r.surface.curvature_used, 16);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("curvature bound of 16"), std::string::npos) << r.warnings[0];
+}
+
+}  // namespace
+}  // namespace hexfem
