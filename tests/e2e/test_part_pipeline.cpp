@@ -108,6 +108,7 @@ TEST(PartPipeline, VolumeFarOffTheCadIsAWarning) {
   const double exact = M_PI * 6.7524 * 6.7524 * 42.5;
   MeshOptions coarse;
   coarse.surface.h = 5.0;
+  coarse.surface.repair = false;  // no second try with a curvature bound (tested on the tie rod)
   MeshReport r;
   mesh_part(cad, coarse, &r);
   const double error = (r.stats.volume - exact) / exact;
