@@ -23,6 +23,7 @@ struct MeshArgs {
   std::string file;
   double h = 0;
   int dim = 3;
+  int order = 1;
   std::string output;
   bool json = false;
   bool force = false;
@@ -46,6 +47,9 @@ std::pair<int, double> parse_size_at(const std::string& s) {
 int run(const MeshArgs& a) {
   using Clock = std::chrono::steady_clock;
   if (a.dim != 2 && a.dim != 3) throw Error("--dim must be 2 (surface) or 3 (volume)");
+  if (a.order != 1 && a.order != 2)
+    throw Error("--order must be 1 or 2 (got " + std::to_string(a.order) + ")");
+  if (a.order == 2 && a.dim != 3) throw Error("--order 2 is for volume meshes (--dim 3)");
   check_finite("--h", a.h);
   if (!(a.h > 0)) throw Error("--h must be > 0 (got " + std::to_string(a.h) + ")");
   check_input_file(a.file);
@@ -69,6 +73,7 @@ int run(const MeshArgs& a) {
     v.json = a.json;
     v.binary = a.binary;
     v.force = a.force;
+    v.order = a.order;
     return run_volume_mesh(v);
   }
 
@@ -175,6 +180,8 @@ RegisterCommand reg{
        sub.add_option("file", a->file, "STEP, IGES or BREP file")->required();
        sub.add_option("--h", a->h, "target element size (mm)")->required();
        sub.add_option("--dim", a->dim, "2 = surface mesh, 3 = volume mesh");
+       sub.add_option("--order", a->order,
+                      "element order: 1 (default) or 2 (mid-edge nodes on the CAD geometry)");
        sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)");
        sub.add_flag("--json", a->json, "print the report as JSON on stdout");
        sub.add_flag("--force", a->force,

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli_checks.hpp"
+#include "app/part_modal.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 #include "mesher/mesh_reports.hpp"
@@ -13,8 +14,13 @@ namespace hexfem {
 
 int run_volume_mesh(const VolumeMeshArgs& a) {
   MeshReport report;
-  const MixedMesh mesh = mesh_file(a.file, a.options, &report);
+  MixedMesh mesh = mesh_file(a.file, a.options, &report);
   check_mesh_volume(report.mesh_volume, report.cad_volume, a.options.surface.h, a.force);
+  Order2Report order2;
+  if (a.order == 2) {
+    const CadModel cad = CadModel::read(a.file);
+    order2 = raise_to_order2(mesh, &cad);
+  }
   double write_seconds = 0;
   if (!a.output.empty()) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -25,6 +31,12 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
     nlohmann::json j = report;
     j["file"] = a.file;
     j["h"] = a.options.surface.h;
+    j["order"] = a.order;
+    if (a.order == 2)
+      j["order2"] = {
+          {"edge_nodes", order2.edge_nodes},     {"boundary_nodes", order2.boundary_nodes},
+          {"curved_nodes", order2.curved_nodes}, {"projection_refused", order2.projection_refused},
+          {"max_offset", order2.max_offset},     {"straightened_cells", order2.straightened_cells}};
     if (!a.output.empty()) {
       j["output"] = a.output;
       j["write_seconds"] = write_seconds;
@@ -35,6 +47,12 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
   std::printf("%s: h = %g mm (file unit %s)\n", a.file.c_str(), a.options.surface.h,
               report.file_unit.c_str());
   std::printf("%s", mesh_report_text(report).c_str());
+  if (a.order == 2)
+    std::printf(
+        "order 2: %ld mid-edge nodes, %ld on the boundary, %ld curved onto the CAD geometry "
+        "(largest offset %.3f edge lengths), %ld cells straightened\n",
+        order2.edge_nodes, order2.boundary_nodes, order2.curved_nodes, order2.max_offset,
+        order2.straightened_cells);
   if (!a.output.empty()) std::printf("wrote %s (%.3f s)\n", a.output.c_str(), write_seconds);
   for (const std::string& w : report.warnings)
     std::fprintf(stderr, "hexfem: warning: %s\n", w.c_str());

@@ -14,6 +14,7 @@ struct VolumeMeshArgs {
   bool json = false;
   bool binary = false;  // MSH 4.1 binary
   bool force = false;   // write a mesh whose volume is more than 10 % off the CAD's
+  int order = 1;        // 2: mid-edge nodes on the CAD geometry
 };
 
 // Meshes (mesh_part emits only valid meshes), refuses a volume far off the CAD's, and writes;

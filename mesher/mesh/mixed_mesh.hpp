@@ -130,6 +130,16 @@ struct MixedMesh {
     return nc + ne;
   }
 
+  // The nodes of boundary face f in Gmsh's tri3/quad4 (order 1) or tri6/quad8 (order 2) order:
+  // corners, then the mid-edge nodes of edges (v0,v1), (v1,v2), ... Returns the count.
+  int bface_element_nodes(std::size_t f, std::int32_t* out) const {
+    const int nc = bface_is_quad(f) ? 4 : 3;
+    for (int i = 0; i < nc; ++i) out[i] = bface_nodes[4 * f + i];
+    if (order != 2) return nc;
+    for (int i = 0; i < nc; ++i) out[nc + i] = bface_edge_nodes[4 * f + i];
+    return 2 * nc;
+  }
+
   // Appends a cell; `ids` holds num_nodes(kind) node indices.
   void add_cell(CellKind kind, const std::int32_t* ids, std::int32_t solid = 1,
                 std::int32_t physical = 0) {

@@ -13,7 +13,13 @@ namespace hexfem {
 
 namespace {
 
-int msh_type(CellKind k) {
+// Gmsh element types; at order 2 tet10 11, pyramid13 19, prism15 18, hex20 17 (the mesh's node
+// order is Gmsh's).
+int msh_type(CellKind k, int order) {
+  if (order == 2) {
+    constexpr int kOrder2[kNumCellKinds] = {11, 19, 18, 17};
+    return kOrder2[static_cast<int>(k)];
+  }
   switch (k) {
     case CellKind::Tet4:
       return 4;
@@ -104,7 +110,11 @@ void write_body(const MixedMesh& mesh, MshOut& o) {
     if (mesh.bface_physical[f]) e.physicals.insert(mesh.bface_physical[f]);
     for (int i = 0; i < (mesh.bface_is_quad(f) ? 4 : 3); ++i)
       e.include(mesh.nodes[mesh.bface(f)[i]]);
-    const int type = mesh.bface_is_quad(f) ? 3 : 2;
+    if (mesh.order == 2)  // curved: the mid-edge nodes may stick out of the corners' box
+      for (int i = 0; i < (mesh.bface_is_quad(f) ? 4 : 3); ++i)
+        e.include(mesh.nodes[mesh.bface_edge_nodes[4 * f + i]]);
+    const int type = mesh.order == 2 ? (mesh.bface_is_quad(f) ? 16 : 9)  // quad8, tri6
+                                     : (mesh.bface_is_quad(f) ? 3 : 2);
     if (blocks.empty() || blocks.back().entity != e.tag || blocks.back().type != type)
       blocks.push_back({2, e.tag, type, f, 0});
     ++blocks.back().count;
@@ -113,8 +123,9 @@ void write_body(const MixedMesh& mesh, MshOut& o) {
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
     Entity& e = entity(3, mesh.cell_solid[c]);
     if (mesh.cell_physical[c]) e.physicals.insert(mesh.cell_physical[c]);
-    for (int i = 0; i < num_nodes(mesh.cell_kind[c]); ++i) e.include(mesh.nodes[mesh.cell(c)[i]]);
-    const int type = msh_type(mesh.cell_kind[c]);
+    std::int32_t ids[kMaxElementNodes];
+    for (int i = 0, n = mesh.element_nodes(c, ids); i < n; ++i) e.include(mesh.nodes[ids[i]]);
+    const int type = msh_type(mesh.cell_kind[c], mesh.order);
     if (blocks.size() == face_blocks || blocks.back().entity != e.tag || blocks.back().type != type)
       blocks.push_back({3, e.tag, type, c, 0});
     ++blocks.back().count;
@@ -183,8 +194,8 @@ void write_body(const MixedMesh& mesh, MshOut& o) {
     o.end_record();
     for (std::size_t k = b.first; k < b.first + b.count; ++k) {
       o.size(tag++);
-      const std::int32_t* ids = b.dim == 2 ? mesh.bface(k) : mesh.cell(k);
-      const int n = b.dim == 2 ? (mesh.bface_is_quad(k) ? 4 : 3) : num_nodes(mesh.cell_kind[k]);
+      std::int32_t ids[kMaxElementNodes];
+      const int n = b.dim == 2 ? mesh.bface_element_nodes(k, ids) : mesh.element_nodes(k, ids);
       for (int i = 0; i < n; ++i) o.size(ids[i] + 1, i + 1 == n ? '\n' : ' ');
     }
   }

@@ -30,6 +30,23 @@ int vtk_type(CellKind k) {
 }
 constexpr int kWedgeToVtk[6] = {0, 2, 1, 3, 5, 4};
 
+// Order 2: VTK quadratic tet 24, pyramid 27, wedge 26, hexahedron 25, and for output position i
+// the element's (Gmsh-ordered) local node. VTK and Abaqus list the bottom edges, the top edges,
+// then the vertical ones; Gmsh lists the edges by their first corner.
+constexpr int kVtkOrder2Type[kNumCellKinds] = {24, 27, 26, 25};
+constexpr int kVtkOrder2[kNumCellKinds][kMaxElementNodes] = {
+    {0, 1, 2, 3, 4, 5, 6, 7, 9, 8},
+    {0, 1, 2, 3, 4, 5, 8, 10, 6, 7, 9, 11, 12},
+    {0, 2, 1, 3, 5, 4, 7, 9, 6, 13, 14, 12, 8, 11, 10},
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15}};
+// Abaqus/CalculiX C3D10, C3D15 and C3D20; a pyramid13 goes out as a C3D20 collapsed onto its
+// apex (corners 0 1 2 3 4 4 4 4, the top edges' nodes at the apex).
+constexpr int kInpOrder2[kNumCellKinds][kMaxElementNodes] = {
+    {0, 1, 2, 3, 4, 5, 6, 7, 9, 8},
+    {0, 1, 2, 3, 4, 4, 4, 4, 5, 8, 10, 6, 4, 4, 4, 4, 7, 9, 11, 12},
+    {0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11},
+    {0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15}};
+
 void put(std::string& s, double v) {
   char buf[32];
   auto r = std::to_chars(buf, buf + sizeof buf, v);
@@ -92,7 +109,7 @@ std::string vtu_text(const std::vector<Vec3>& nodes, std::size_t n, CellFn cell,
   std::vector<long long> types(n), offsets(n);
   std::string conn;
   long long offset = 0;
-  std::int32_t ids[8];
+  std::int32_t ids[kMaxElementNodes];
   for (std::size_t i = 0; i < n; ++i) {
     int count = 0;
     types[i] = cell(i, ids, count);
@@ -143,6 +160,12 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path, const V
         mesh.nodes, mesh.num_cells(),
         [&](std::size_t c, std::int32_t* ids, int& count) {
           const CellKind k = mesh.cell_kind[c];
+          if (mesh.order == 2) {
+            std::int32_t all[kMaxElementNodes];
+            count = mesh.element_nodes(c, all);
+            for (int i = 0; i < count; ++i) ids[i] = all[kVtkOrder2[static_cast<int>(k)][i]];
+            return kVtkOrder2Type[static_cast<int>(k)];
+          }
           count = num_nodes(k);
           for (int i = 0; i < count; ++i)
             ids[i] = mesh.cell(c)[k == CellKind::Wedge6 ? kWedgeToVtk[i] : i];
@@ -150,8 +173,10 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path, const V
         },
         [&](std::string& s) {
           const std::size_t n = mesh.num_cells();
-          data_array(s, "Int32", "kind", 1, n,
-                     [&](std::size_t c) { put(s, vtk_type(mesh.cell_kind[c])); });
+          data_array(s, "Int32", "kind", 1, n, [&](std::size_t c) {
+            put(s, mesh.order == 2 ? kVtkOrder2Type[static_cast<int>(mesh.cell_kind[c])]
+                                   : vtk_type(mesh.cell_kind[c]));
+          });
           data_array(s, "Int32", "solid", 1, n, [&](std::size_t c) { put(s, mesh.cell_solid[c]); });
           data_array(s, "Float64", "quality", 1, n,
                      [&](std::size_t c) { put(s, cell_min_scaled_jacobian(mesh, c)); });
@@ -163,9 +188,8 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path, const V
     text = vtu_text(
         mesh.nodes, mesh.num_bfaces(),
         [&](std::size_t f, std::int32_t* ids, int& count) {
-          count = mesh.bface_is_quad(f) ? 4 : 3;
-          for (int i = 0; i < count; ++i) ids[i] = mesh.bface(f)[i];
-          return count == 4 ? 9 : 5;
+          count = mesh.bface_element_nodes(f, ids);  // VTK's quadratic order is Gmsh's
+          return count == 4 ? 9 : count == 3 ? 5 : count == 8 ? 23 : 22;
         },
         [&](std::string& s) {
           data_array(s, "Int32", "cad_face", 1, mesh.num_bfaces(),
@@ -212,25 +236,43 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path) {
     const char* type;
     const char* elset;
   };
-  const KindOut kinds[] = {{CellKind::Hex8, "C3D8", "E_HEX8"},
-                           {CellKind::Wedge6, "C3D6", "E_WEDGE6"},
-                           {CellKind::Pyramid5, "C3D8", "E_PYRAMID5"},
-                           {CellKind::Tet4, "C3D4", "E_TET4"}};
+  const bool o2 = mesh.order == 2;
+  const KindOut kinds[] = {
+      {CellKind::Hex8, o2 ? "C3D20" : "C3D8", o2 ? "E_HEX20" : "E_HEX8"},
+      {CellKind::Wedge6, o2 ? "C3D15" : "C3D6", o2 ? "E_WEDGE15" : "E_WEDGE6"},
+      {CellKind::Pyramid5, o2 ? "C3D20" : "C3D8", o2 ? "E_PYRAMID13" : "E_PYRAMID5"},
+      {CellKind::Tet4, o2 ? "C3D10" : "C3D4", o2 ? "E_TET10" : "E_TET4"}};
   std::vector<std::string> used_elsets;
   for (const KindOut& k : kinds) {
     bool any = false;
     for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
       if (mesh.cell_kind[c] != k.kind) continue;
       if (!any) {
-        if (k.kind == CellKind::Pyramid5)
+        if (k.kind == CellKind::Pyramid5 && !o2)
           s += "** CalculiX has no pyramid: each pyramid is a C3D8 with the apex repeated "
                "(nodes 1 2 3 4 5 5 5 5)\n";
+        if (k.kind == CellKind::Pyramid5 && o2)
+          s += "** CalculiX has no pyramid: each pyramid13 is a C3D20 collapsed onto its apex "
+               "(corners 1 2 3 4 5 5 5 5, the top edges' mid nodes at the apex too)\n";
         s += std::string("*ELEMENT, TYPE=") + k.type + ", ELSET=" + k.elset + "\n";
         used_elsets.push_back(k.elset);
         any = true;
       }
       put(s, static_cast<long long>(c + 1));
       const std::int32_t* ids = mesh.cell(c);
+      if (o2) {
+        std::int32_t all[kMaxElementNodes];
+        mesh.element_nodes(c, all);
+        const int n = k.kind == CellKind::Pyramid5 ? 20 : num_nodes(k.kind, 2);
+        for (int i = 0; i < n; ++i) {
+          // Abaqus lines hold at most 16 entries: a C3D20 continues on a second line.
+          s.back() = ',';
+          if (i == 15) s += '\n';
+          put(s, static_cast<long long>(all[kInpOrder2[static_cast<int>(k.kind)][i]] + 1));
+        }
+        s.back() = '\n';
+        continue;
+      }
       const int n = k.kind == CellKind::Pyramid5 ? 8 : num_nodes(k.kind);
       for (int i = 0; i < n; ++i) {
         s.back() = ',';
@@ -255,9 +297,11 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path) {
     id_list(ids);
   }
   std::map<int, std::set<long long>> by_face;
-  for (std::size_t f = 0; f < mesh.num_bfaces(); ++f)
-    for (int i = 0; i < (mesh.bface_is_quad(f) ? 4 : 3); ++i)
-      by_face[mesh.bface_cad_face[f]].insert(mesh.bface(f)[i] + 1);
+  for (std::size_t f = 0; f < mesh.num_bfaces(); ++f) {
+    std::int32_t ids[8];
+    for (int i = 0, n = mesh.bface_element_nodes(f, ids); i < n; ++i)
+      by_face[mesh.bface_cad_face[f]].insert(ids[i] + 1);
+  }
   for (const auto& [face, ids] : by_face) {
     s += "*NSET, NSET=FACE_" + std::to_string(face) + "\n";
     id_list(std::vector<long long>(ids.begin(), ids.end()));
