@@ -10,6 +10,7 @@
 #include "app/convergence_table.hpp"
 #include "app/modal_cli.hpp"
 #include "app/part_modal.hpp"
+#include "app/reports_json.hpp"
 #include "fem/material.hpp"
 #include "mesher/mesh/error.hpp"
 
@@ -73,34 +74,16 @@ int run(const ConvergeArgs& a) {
       a.output.empty() ? std::filesystem::path(a.file).stem().string() + "_converge" : a.output;
   const auto files = write_convergence_files(study, stem);
   if (a.json) {
-    nlohmann::json j;
+    nlohmann::json j = study;
     j["part"] = a.file;
-    j["material"] = modal.material.name;
+    j["material"] = modal.material;
     j["hex8"] = a.modal.hex8;
     j["order"] = a.modal.order;
     j["elements"] = element_formulations(a.modal.order, modal.incompatible_hex);
     j["fix"] = a.modal.fix;
-    j["reference_hz"] = study.reference;
-    j["rows"] = nlohmann::json::array();
     for (std::size_t r = 0; r < study.rows.size(); ++r) {
-      const auto& row = study.rows[r];
-      nlohmann::json jr = {{"h", row.h},
-                           {"nodes", row.nodes},
-                           {"cells", row.cells},
-                           {"H_vol", row.h_vol},
-                           {"H_nbr", row.h_nbr},
-                           {"seconds", row.seconds},
-                           {"frequencies_hz", row.frequencies},
-                           {"solver", solvers[r].first},
-                           {"solver_reason", solvers[r].second}};
-      for (int i = 0; i < study.num_frequencies() && !study.reference.empty(); ++i)
-        jr["relative_error"].push_back(study.error(r, i));
-      j["rows"].push_back(jr);
-    }
-    for (int i = 0; i < study.num_frequencies(); ++i) {
-      const double p = study.observed_order(study.rows.size() - 1, i);
-      j["observed_order"].push_back(std::isnan(p) ? nlohmann::json() : nlohmann::json(p));
-      j["monotone"].push_back(study.monotone(i));
+      j["rows"][r]["solver"] = solvers[r].first;
+      j["rows"][r]["solver_reason"] = solvers[r].second;
     }
     for (const auto& f : files) j["files"].push_back(f.string());
     std::printf("%s\n", j.dump(2).c_str());

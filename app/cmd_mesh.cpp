@@ -9,6 +9,7 @@
 
 #include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
+#include "app/reports_json.hpp"
 #include "app/volume_mesh_cli.hpp"
 #include "mesher/cad/cad_model.hpp"
 #include "mesher/mesh/error.hpp"
@@ -107,39 +108,13 @@ int run(const MeshArgs& a) {
 
   double total = 0;
   for (const auto& [name, s] : rep.stage_seconds) total += s;
-  double mesh_volume = 0;
-  for (const auto& c : checks) mesh_volume += c.volume;
   if (a.json) {
-    nlohmann::json j;
+    nlohmann::json j = rep;
     j["file"] = a.file;
     j["file_unit"] = cad.file_unit();
     j["h"] = a.h;
-    j["points"] = rep.points;
-    j["edge_points"] = rep.edge_points;
-    j["triangles"] = rep.triangles;
-    j["estimated_points"] = rep.estimated_points;
-    j["right_isosceles_share"] = rep.quality.right_isosceles_share;
-    j["min_angle_deg"] = rep.quality.min_angle;
-    j["max_angle_deg"] = rep.quality.max_angle;
-    j["triangles_below_5deg"] = rep.quality.below_5;
-    j["curvature_used"] = rep.curvature_used;
-    // Forced by the CAD model: the small angle is at a face corner sharper than 5° there.
-    j["triangles_below_5deg_at_cad_corners_below_5deg"] = rep.quality.below_5_at_cad_corners;
-    j["forcing_cad_corner_deg"] = {rep.quality.forcing_corner_min, rep.quality.forcing_corner_max};
     j["cad_volume"] = cad.volume();
-    j["mesh_volume"] = mesh_volume;
-    j["solids"] = nlohmann::json::array();
-    for (const auto& c : checks)
-      j["solids"].push_back({{"id", c.solid},
-                             {"triangles", c.triangles},
-                             {"volume", c.volume},
-                             {"cad_volume", cad.solid_volume(c.solid)},
-                             {"closed", c.open_edges == 0 && c.nonmanifold_edges == 0},
-                             {"oriented", c.misoriented_edges == 0 && c.volume > 0},
-                             {"self_intersects", c.self_intersects}});
-    j["stage_seconds"] = nlohmann::json::object();
-    for (const auto& [name, s] : rep.stage_seconds) j["stage_seconds"][name] = s;
-    j["total_seconds"] = total;
+    for (auto& solid : j["solids"]) solid["cad_volume"] = cad.solid_volume(solid["id"].get<int>());
     if (!a.output.empty()) j["output"] = a.output;
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
@@ -164,7 +139,7 @@ int run(const MeshArgs& a) {
                 rep.curvature_used);
   std::printf(
       "closed, outward, no self-intersection: %zu solid(s); enclosed volume %.9g (CAD %.9g)\n",
-      checks.size(), mesh_volume, cad.volume());
+      checks.size(), enclosed, cad.volume());
   std::printf("time:");
   for (const auto& [name, s] : rep.stage_seconds) std::printf(" %s %.3f s,", name.c_str(), s);
   std::printf(" total %.3f s\n", total);

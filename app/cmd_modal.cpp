@@ -17,6 +17,7 @@
 #include "app/command_registry.hpp"
 #include "app/modal_cli.hpp"
 #include "app/part_modal.hpp"
+#include "app/reports_json.hpp"
 #include "fem/boundary.hpp"
 #include "fem/material.hpp"
 #include "fem/modal_solver.hpp"
@@ -24,6 +25,7 @@
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
+#include "mesher/mesh_reports.hpp"
 
 namespace hexfem {
 namespace {
@@ -156,7 +158,7 @@ int run(const Args& a) {
   std::size_t count[kNumCellKinds] = {};
   for (CellKind k : mesh.cell_kind) ++count[static_cast<int>(k)];
   if (a.json) {
-    nlohmann::json j;
+    nlohmann::json j = r;  // DOFs, mass, volume, modes, solver figures
     j["mesh"] = {{"file", a.mesh},
                  {"nodes", mesh.nodes.size()},
                  {"cells", mesh.num_cells()},
@@ -164,12 +166,7 @@ int run(const Args& a) {
     for (int k = 0; k < kNumCellKinds; ++k) j["mesh"][kind_name(CellKind(k))] = count[k];
     if (cad_input) {
       j["mesh"]["h"] = a.h;
-      j["mesh"]["H_nbr"] = part.mesh_report.stats.h_nbr;
-      j["mesh"]["H_vol"] = part.mesh_report.stats.h_vol;
-      j["mesh"]["Q"] = part.mesh_report.stats.q_mean;
-      j["mesh"]["NC"] = part.mesh_report.stats.nc_percent;
-      j["mesh"]["inverted"] = part.mesh_report.stats.inverted;
-      j["mesh"]["volume_error"] = part.mesh_report.volume_error;
+      j["mesh"]["report"] = part.mesh_report;  // the mesher's report, as `hexfem mesh --json`
       j["mesh"]["mesh_seconds"] = part.mesh_seconds;
       if (!a.mesh_out.empty()) j["mesh"]["written"] = a.mesh_out;
     }
@@ -187,31 +184,8 @@ int run(const Args& a) {
                   {"scale_to_m", shown.scale},
                   {"material", "SI (Pa, kg/m^3)"},
                   {"frequency", "Hz"}};
-    j["material"] = {{"name", mat.name}, {"E", mat.E}, {"nu", mat.nu}, {"rho", mat.rho}};
+    j["material"] = mat;
     j["fix"] = a.modal.fix;
-    j["fixed_dofs"] = r.num_fixed_dofs;
-    j["free_dofs"] = r.num_free_dofs;
-    j["mass_kg"] = r.total_mass;
-    j["volume_m3"] = r.volume;
-    j["modes"] = nlohmann::json::array();
-    for (std::size_t m = 0; m < r.frequencies.size(); ++m)
-      j["modes"].push_back({{"mode", m + 1},
-                            {"frequency_hz", r.frequencies[m]},
-                            {"eigenvalue", r.eigenvalues[m]},
-                            {"effective_mass_fraction",
-                             {r.effective_mass_fraction(m, 0), r.effective_mass_fraction(m, 1),
-                              r.effective_mass_fraction(m, 2)}}});
-    j["solver"] = {{"order_s", r.order_seconds},          {"assemble_s", r.assemble_seconds},
-                   {"factor_s", r.eigen.factor_seconds},  {"lanczos_s", r.eigen.solve_seconds},
-                   {"factor_nnz", r.eigen.factor_nnz},    {"shift", r.eigen.sigma},
-                   {"max_residual", r.eigen.max_residual}};
-    j["solver"]["method"] = r.eigen.method;
-    j["solver"]["reason"] = r.solver_reason;
-    j["solver"]["setup_s"] = r.eigen.setup_seconds;
-    j["solver"]["solve_s"] = r.eigen.solve_seconds;
-    j["solver"]["iterations"] = r.eigen.iterations;
-    j["solver"]["peak_memory_bytes"] = r.eigen.peak_memory_bytes;
-    j["solver"]["ranks"] = r.eigen.ranks;
     j["warnings"] = warnings;
     if (!a.modes_out.empty()) j["modes_out"] = a.modes_out;
     std::printf("%s\n", j.dump(2).c_str());

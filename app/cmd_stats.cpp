@@ -24,7 +24,7 @@ RegisterCommand reg{{"stats", "Element counts, H_nbr, H_vol, Q, NC, validity and
                            throw Error("'" + *path + "' has no volume elements");
                          const MeshStats s = compute_stats(mesh);
                          if (*json)
-                           std::printf("%s\n", stats_to_json(s).dump(2).c_str());
+                           std::printf("%s\n", nlohmann::json(s).dump(2).c_str());
                          else
                            std::printf("%s", stats_to_text(s).c_str());
                          return 0;

@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "fem/boundary.hpp"
-#include "fem/ccx_reference.hpp"
+#include "tests/support/ccx_reference.hpp"
 #include "fem/modal_solver.hpp"
 #include "mesher/mesh/conformity.hpp"
 #include "mesher/mesh/error.hpp"

@@ -21,7 +21,7 @@
 #include "mesher/tetrahedralize.hpp"
 #include "mesher/volume_pipeline.hpp"
 #include "mesher/volume_points.hpp"
-#include "tests/volume/synthetic_surfaces.hpp"
+#include "tests/support/synthetic_surfaces.hpp"
 
 using namespace hexfem;
 

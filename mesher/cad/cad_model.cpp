@@ -14,6 +14,8 @@
 #include <GProp_GProps.hxx>
 #include <IGESControl_Reader.hxx>
 #include <IGESData_IGESModel.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_InterfaceModel.hxx>
 #include <Interface_Static.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
@@ -21,6 +23,8 @@
 #include <STEPControl_Reader.hxx>
 #include <ShapeFix_Solid.hxx>
 #include <Standard_Failure.hxx>
+#include <StepGeom_GeometricRepresentationItem.hxx>
+#include <StepShape_TopologicalRepresentationItem.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -80,6 +84,24 @@ std::string read_head(const fs::path& path, std::size_t n) {
   return s;
 }
 
+// OpenCASCADE's STEP translator dereferences the null left by a geometric or topological
+// entity that failed to parse (found by the fuzz run, issue 14): refuse such a file first.
+// Broken styling or unit entities (seen in valid parts) are left to the translator.
+void check_step_entities(const fs::path& path, const STEPControl_Reader& reader) {
+  const Handle(Interface_InterfaceModel) model = reader.Model();
+  for (int i = 1; i <= model->NbEntities(); ++i) {
+    if (!model->IsErrorEntity(i)) continue;
+    const Handle(Standard_Transient) e = model->Value(i);
+    if (!e->IsKind(STANDARD_TYPE(StepGeom_GeometricRepresentationItem)) &&
+        !e->IsKind(STANDARD_TYPE(StepShape_TopologicalRepresentationItem)))
+      continue;
+    const Handle(Interface_Check) check = model->Check(i, true);
+    const std::string why = !check.IsNull() && check->NbFails() > 0 ? check->CFail(1) : "";
+    throw Error("'" + path.string() + "' is not a readable STEP file: entity " + std::to_string(i) +
+                " (" + model->TypeName(e) + ") is corrupt" + (why.empty() ? "" : " (" + why + ")"));
+  }
+}
+
 TopoDS_Shape read_step(const fs::path& path, CadModel::Impl& m) {
   const std::string head = read_head(path, 64);
   if (head.find("ISO-10303-21") == std::string::npos)
@@ -89,6 +111,7 @@ TopoDS_Shape read_step(const fs::path& path, CadModel::Impl& m) {
   Interface_Static::SetCVal("xstep.cascade.unit", "MM");
   if (reader.ReadFile(path.string().c_str()) != IFSelect_RetDone)
     throw Error("'" + path.string() + "' is not a readable STEP file (syntax error or truncated)");
+  check_step_entities(path, reader);
   TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
   reader.FileUnits(lengths, angles, solid_angles);
   m.file_unit =

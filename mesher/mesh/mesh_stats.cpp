@@ -137,8 +137,7 @@ MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& f
   return s;
 }
 
-nlohmann::json stats_to_json(const MeshStats& s) {
-  nlohmann::json j;
+void to_json(nlohmann::json& j, const MeshStats& s) {
   j["nodes"] = s.num_nodes;
   j["cells"] = s.num_cells;
   nlohmann::json per_kind, min_sj;
@@ -161,7 +160,6 @@ nlohmann::json stats_to_json(const MeshStats& s) {
   j["open_boundary_edges"] = s.open_boundary_edges;
   j["watertight"] = s.watertight;
   j["volume"] = s.volume;
-  return j;
 }
 
 std::string stats_to_text(const MeshStats& s) {

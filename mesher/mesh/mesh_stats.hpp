@@ -37,7 +37,7 @@ MeshStats compute_stats(const MixedMesh& mesh);
 MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& faces);
 
 // The same, as JSON (keys as the field names, per-kind maps keyed by kind_name()).
-nlohmann::json stats_to_json(const MeshStats& s);
+void to_json(nlohmann::json& j, const MeshStats& s);  // `nlohmann::json j = stats;`
 
 // A short human-readable report (one quantity per line).
 std::string stats_to_text(const MeshStats& s);

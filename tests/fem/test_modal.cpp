@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "fem/boundary.hpp"
-#include "fem/ccx_reference.hpp"
+#include "tests/support/ccx_reference.hpp"
 #include "fem/modal_solver.hpp"
 #include "fem_test_util.hpp"
 #include "mesher/mesh/conformity.hpp"

@@ -145,5 +145,19 @@ TEST(Cli, ConvertAndStatsRefuseBadPathsAndNumbers) {
   EXPECT_TRUE(fs::exists(dir / "OUT_nc.vtu"));
 }
 
+// Found by the fuzz run: a STEP entity that fails to parse (here a direction with a corrupt
+// number) made OpenCASCADE's translator dereference a null (exit 139); now one line.
+TEST(Cli, CorruptStepEntityIsOneLine) {
+  std::ifstream in(std::string(HEXFEM_TEST_DATA) + "/cylinder.stp", std::ios::binary);
+  std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string good = "-2.236060986829E-008));";
+  ASSERT_NE(step.find(good), std::string::npos);
+  step.replace(step.find(good), good.size(), "-2.23>060986829E-008));");
+  testing::write_file(work_path("cli_corrupt.stp"), step);
+  expect_error("info " + work_path("cli_corrupt.stp").string(), "(DIRECTION) is corrupt");
+  expect_error("mesh " + work_path("cli_corrupt.stp").string() + " --h 3 --dim 2",
+               "(DIRECTION) is corrupt");
+}
+
 }  // namespace
 }  // namespace hexfem

@@ -12,7 +12,7 @@
 #include "mesher/solid_locator.hpp"
 #include "mesher/tetrahedralize.hpp"
 #include "mesher/volume_points.hpp"
-#include "tests/volume/synthetic_surfaces.hpp"
+#include "tests/support/synthetic_surfaces.hpp"
 
 namespace hexfem {
 namespace {

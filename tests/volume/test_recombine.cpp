@@ -13,7 +13,7 @@
 #include "mesher/recombine_hex.hpp"
 #include "mesher/recombine_prism_pyramid.hpp"
 #include "mesher/volume_pipeline.hpp"
-#include "tests/volume/synthetic_surfaces.hpp"
+#include "tests/support/synthetic_surfaces.hpp"
 
 namespace hexfem {
 namespace {

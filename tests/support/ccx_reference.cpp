@@ -1,4 +1,4 @@
-#include "fem/ccx_reference.hpp"
+#include "tests/support/ccx_reference.hpp"
 
 #include <fcntl.h>
 #include <sys/resource.h>

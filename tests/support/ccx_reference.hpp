@@ -1,6 +1,6 @@
 // CalculiX (ccx) as an independent reference for the modal solver: writes a complete *FREQUENCY
 // deck for a mixed mesh and reads the eigenvalues back from the .dat file. Used by the tests and
-// validation/bench_modal (never by the CLI).
+// validation/bench_modal (never by the CLI); part of the test-support library.
 #pragma once
 
 #include <array>

@@ -1,0 +1,99 @@
+#include "app/reports_json.hpp"
+
+#include <cmath>
+
+namespace hexfem {
+
+void to_json(nlohmann::json& j, const Material& m) {
+  j = {{"name", m.name}, {"E", m.E}, {"nu", m.nu}, {"rho", m.rho}};
+}
+
+void to_json(nlohmann::json& j, const ModalResult& r) {
+  j["fixed_dofs"] = r.num_fixed_dofs;
+  j["free_dofs"] = r.num_free_dofs;
+  j["mass_kg"] = r.total_mass;
+  j["volume_m3"] = r.volume;
+  j["modes"] = nlohmann::json::array();
+  for (std::size_t m = 0; m < r.frequencies.size(); ++m) {
+    const auto i = static_cast<Eigen::Index>(m);
+    j["modes"].push_back({{"mode", m + 1},
+                          {"frequency_hz", r.frequencies[m]},
+                          {"eigenvalue", r.eigenvalues[m]},
+                          {"effective_mass_fraction",
+                           {r.effective_mass_fraction(i, 0), r.effective_mass_fraction(i, 1),
+                            r.effective_mass_fraction(i, 2)}}});
+  }
+  j["solver"] = {{"order_s", r.order_seconds},          {"assemble_s", r.assemble_seconds},
+                 {"factor_s", r.eigen.factor_seconds},  {"lanczos_s", r.eigen.solve_seconds},
+                 {"factor_nnz", r.eigen.factor_nnz},    {"shift", r.eigen.sigma},
+                 {"max_residual", r.eigen.max_residual}};
+  j["solver"]["method"] = r.eigen.method;
+  j["solver"]["reason"] = r.solver_reason;
+  j["solver"]["setup_s"] = r.eigen.setup_seconds;
+  j["solver"]["solve_s"] = r.eigen.solve_seconds;
+  j["solver"]["iterations"] = r.eigen.iterations;
+  j["solver"]["peak_memory_bytes"] = r.eigen.peak_memory_bytes;
+  j["solver"]["ranks"] = r.eigen.ranks;
+}
+
+void to_json(nlohmann::json& j, const ConvergenceRow& row) {
+  j = {{"h", row.h},
+       {"nodes", row.nodes},
+       {"cells", row.cells},
+       {"H_vol", row.h_vol},
+       {"H_nbr", row.h_nbr},
+       {"seconds", row.seconds},
+       {"frequencies_hz", row.frequencies}};
+}
+
+void to_json(nlohmann::json& j, const ConvergenceStudy& s) {
+  j["part"] = s.part;
+  j["reference_hz"] = s.reference;
+  j["rows"] = nlohmann::json::array();
+  for (std::size_t r = 0; r < s.rows.size(); ++r) {
+    nlohmann::json jr = s.rows[r];
+    for (int i = 0; i < s.num_frequencies() && !s.reference.empty(); ++i)
+      jr["relative_error"].push_back(s.error(r, i));
+    j["rows"].push_back(jr);
+  }
+  for (int i = 0; i < s.num_frequencies(); ++i) {
+    const double p = s.observed_order(s.rows.size() - 1, i);
+    j["observed_order"].push_back(std::isnan(p) ? nlohmann::json() : nlohmann::json(p));
+    j["monotone"].push_back(s.monotone(i));
+  }
+}
+
+void to_json(nlohmann::json& j, const SurfaceReport& r) {
+  j["points"] = r.points;
+  j["edge_points"] = r.edge_points;
+  j["triangles"] = r.triangles;
+  j["estimated_points"] = r.estimated_points;
+  j["right_isosceles_share"] = r.quality.right_isosceles_share;
+  j["min_angle_deg"] = r.quality.min_angle;
+  j["max_angle_deg"] = r.quality.max_angle;
+  j["triangles_below_5deg"] = r.quality.below_5;
+  j["curvature_used"] = r.curvature_used;
+  // Forced by the CAD model: the small angle is at a face corner sharper than 5° there.
+  j["triangles_below_5deg_at_cad_corners_below_5deg"] = r.quality.below_5_at_cad_corners;
+  j["forcing_cad_corner_deg"] = {r.quality.forcing_corner_min, r.quality.forcing_corner_max};
+  double volume = 0, total = 0;
+  j["solids"] = nlohmann::json::array();
+  for (const auto& c : r.checks) {
+    volume += c.volume;
+    j["solids"].push_back({{"id", c.solid},
+                           {"triangles", c.triangles},
+                           {"volume", c.volume},
+                           {"closed", c.open_edges == 0 && c.nonmanifold_edges == 0},
+                           {"oriented", c.misoriented_edges == 0 && c.volume > 0},
+                           {"self_intersects", c.self_intersects}});
+  }
+  j["mesh_volume"] = volume;
+  j["stage_seconds"] = nlohmann::json::object();
+  for (const auto& [name, s] : r.stage_seconds) {
+    j["stage_seconds"][name] = s;
+    total += s;
+  }
+  j["total_seconds"] = total;
+}
+
+}  // namespace hexfem
