@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -25,6 +26,19 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
                   std::to_string(cad.num_vertices()) + " vertices)");
     if (!(s > 0) || !std::isfinite(s))
       throw Error("--size-at vertex:" + std::to_string(v) + ": size must be > 0");
+    // Below this the edge points no longer grade away from the vertex in a few dozen steps
+    // (1e-7 on the steel part: 16,000 edge points, 28 s; 1e-9 ran for minutes).
+    const BBox3 b = cad.bbox();
+    const double smallest =
+        kMinRelativeSize * std::hypot(b.max[0] - b.min[0], b.max[1] - b.min[1], b.max[2] - b.min[2]);
+    if (s < smallest) {
+      char msg[200];
+      std::snprintf(msg, sizeof msg,
+                    "--size-at vertex:%d=%g: sizes below %g mm (1e-5 of the part's diagonal) are "
+                    "not resolved",
+                    v, s, smallest);
+      throw Error(msg);
+    }
     vertex_size_[static_cast<std::size_t>(v - 1)] = s;
     h_min_ = std::min(h_min_, s);
   }

@@ -16,6 +16,9 @@
 
 namespace hexfem {
 
+// The smallest size a user may ask for at a vertex, relative to the part's bounding-box diagonal.
+inline constexpr double kMinRelativeSize = 1e-5;
+
 struct SizeOptions {
   double h = 1.0;                                    // global target size, mm
   int curvature = 0;                                 // elements per 2*pi; 0 = no curvature bound

@@ -202,7 +202,8 @@ FaceWork face_boundaries(const CadModel& cad, const SizeField& size, const EdgeP
   w.boundary.resize(nf);
   w.budget.resize(nf);
   w.collapsed.assign(nf, false);
-  double refined = 0;
+  double refined = 0, worst = 0, worst_h = 0;
+  int worst_face = 0;
   for (std::size_t k = 0; k < nf; ++k) {
     w.boundary[k] = face_boundary(cad, w.faces[k], edges);
     double hmin = size.global(), hsum = 0;
@@ -216,13 +217,23 @@ FaceWork face_boundaries(const CadModel& cad, const SizeField& size, const EdgeP
                              : hsum / static_cast<double>(w.boundary[k].node.size());
     const double area = cad.face_area(w.faces[k]);
     refined += area / (hmean * hmean);
+    if (area / (hmean * hmean) > worst) {
+      worst = area / (hmean * hmean);
+      worst_face = w.faces[k];
+      worst_h = hmean;
+    }
     w.budget[k] = std::min(4 * area / (hmin * hmin) + 1e4, 2.5e8);
     // A face whose boundary collapsed to fewer than three nodes (all its edges micro edges)
     // has no area to mesh; its neighbours close over it.
     const std::set<int> distinct(w.boundary[k].node.begin(), w.boundary[k].node.end());
     w.collapsed[k] = distinct.size() < 3;
   }
-  throw_if_too_many(refined, " with the curvature and feature sizes", options);
+  char what[160];
+  std::snprintf(what, sizeof what,
+                " with the curvature and feature sizes (face %d: about %.3g points at a mean "
+                "size of %.3g mm set by a thin wall or small feature next to it)",
+                worst_face, worst, worst_h);
+  throw_if_too_many(refined, what, options);
   return w;
 }
 
