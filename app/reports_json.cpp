@@ -64,18 +64,19 @@ void to_json(nlohmann::json& j, const ConvergenceStudy& s) {
 }
 
 void to_json(nlohmann::json& j, const SurfaceReport& r) {
-  j["points"] = r.points;
-  j["edge_points"] = r.edge_points;
-  j["triangles"] = r.triangles;
-  j["estimated_points"] = r.estimated_points;
-  j["right_isosceles_share"] = r.quality.right_isosceles_share;
-  j["min_angle_deg"] = r.quality.min_angle;
-  j["max_angle_deg"] = r.quality.max_angle;
-  j["triangles_below_5deg"] = r.quality.below_5;
-  j["curvature_used"] = r.curvature_used;
-  // Forced by the CAD model: the small angle is at a face corner sharper than 5° there.
-  j["triangles_below_5deg_at_cad_corners_below_5deg"] = r.quality.below_5_at_cad_corners;
-  j["forcing_cad_corner_deg"] = {r.quality.forcing_corner_min, r.quality.forcing_corner_max};
+  const TriangleQuality& q = r.quality;
+  j = {{"points", r.points},
+       {"edge_points", r.edge_points},
+       {"triangles", r.triangles},
+       {"estimated_points", r.estimated_points},
+       {"right_isosceles_share", q.right_isosceles_share},
+       {"min_angle_deg", q.min_angle},
+       {"max_angle_deg", q.max_angle},
+       {"triangles_below_5deg", q.below_5},
+       {"curvature_used", r.curvature_used},
+       // Forced by the CAD model: the small angle is at a face corner sharper than 5° there.
+       {"triangles_below_5deg_at_cad_corners_below_5deg", q.below_5_at_cad_corners},
+       {"forcing_cad_corner_deg", {q.forcing_corner_min, q.forcing_corner_max}}};
   double volume = 0, total = 0;
   j["solids"] = nlohmann::json::array();
   for (const auto& c : r.checks) {

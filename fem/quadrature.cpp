@@ -36,14 +36,23 @@ Rule1D gauss_legendre(int n) {
   return gauss_jacobi(n, 0.0, 0.0);
 }
 
+// The n^3 product of three 1D rules, each point (u, v, t) with weight w mapped by `map` to the
+// reference element's point and weight (the collapsed rules of the tet and the pyramid).
+template <class Map>
+QuadRule product_rule(const Rule1D& gu, const Rule1D& gv, const Rule1D& gt, Map map) {
+  QuadRule rule;
+  for (std::size_t k = 0; k < gt.x.size(); ++k)
+    for (std::size_t j = 0; j < gv.x.size(); ++j)
+      for (std::size_t i = 0; i < gu.x.size(); ++i)
+        rule.push_back(map(gu.x[i], gv.x[j], gt.x[k], gu.w[i] * gv.w[j] * gt.w[k]));
+  return rule;
+}
+
 QuadRule hex_rule(int n) {
   const Rule1D g = gauss_legendre(n);
-  QuadRule rule;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        rule.push_back({{g.x[i], g.x[j], g.x[k]}, g.w[i] * g.w[j] * g.w[k]});
-  return rule;
+  return product_rule(g, g, g, [](double u, double v, double t, double w) {
+    return QuadPoint{{u, v, t}, w};
+  });
 }
 
 QuadRule triangle_rule(int n) {
@@ -80,33 +89,21 @@ QuadRule tet_rule(int n) {
         {{a, a, a}, 1.0 / 24}, {{b, a, a}, 1.0 / 24}, {{a, b, a}, 1.0 / 24}, {{a, a, b}, 1.0 / 24}};
   }
   // ζ = (1+t)/2, η = (1+v)/2 (1-ζ), ξ = (1+u)/2 (1-η-ζ): dV = (1-t)^2 (1-v)/64 du dv dt.
-  const Rule1D gu = gauss_legendre(n);
-  const Rule1D gv = gauss_jacobi(n, 1.0, 0.0);
-  const Rule1D gt = gauss_jacobi(n, 2.0, 0.0);
-  QuadRule rule;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const double zeta = (1 + gt.x[k]) / 2;
-        const double eta = (1 + gv.x[j]) / 2 * (1 - zeta);
-        const double xi = (1 + gu.x[i]) / 2 * (1 - eta - zeta);
-        rule.push_back({{xi, eta, zeta}, gu.w[i] * gv.w[j] * gt.w[k] / 64});
-      }
-  return rule;
+  return product_rule(gauss_legendre(n), gauss_jacobi(n, 1.0, 0.0), gauss_jacobi(n, 2.0, 0.0),
+                      [](double u, double v, double t, double w) {
+                        const double zeta = (1 + t) / 2;
+                        const double eta = (1 + v) / 2 * (1 - zeta);
+                        const double xi = (1 + u) / 2 * (1 - eta - zeta);
+                        return QuadPoint{{xi, eta, zeta}, w / 64};
+                      });
 }
 
 QuadRule pyramid_rule(int n) {
   const Rule1D g = gauss_legendre(n);
-  const Rule1D gt = gauss_jacobi(n, 2.0, 0.0);
-  QuadRule rule;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const double zeta = (1 + gt.x[k]) / 2;
-        rule.push_back(
-            {{g.x[i] * (1 - zeta), g.x[j] * (1 - zeta), zeta}, g.w[i] * g.w[j] * gt.w[k] / 8});
-      }
-  return rule;
+  return product_rule(g, g, gauss_jacobi(n, 2.0, 0.0), [](double u, double v, double t, double w) {
+    const double zeta = (1 + t) / 2;
+    return QuadPoint{{u * (1 - zeta), v * (1 - zeta), zeta}, w / 8};
+  });
 }
 
 }  // namespace hexfem

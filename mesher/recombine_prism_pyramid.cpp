@@ -321,19 +321,15 @@ std::size_t merge_slivers_into_pyramids(RecombineState& state) {
 std::size_t dissolve_pyramids_next_to_slivers(RecombineState& state) {
   const TetTopology& topo = state.topo;
   const std::vector<Candidate>& elements = state.elements;
-  const std::vector<char>& used = state.used;
-  const double flat_sj = state.limits.sliver_quality, element_sj = state.limits.keep_tet_quality;
+  const double element_sj = state.limits.keep_tet_quality;
   const TetMesh& m = topo.mesh();
-  std::vector<std::int32_t> owner(m.tets.size(), -1);
-  for (std::size_t e = 0; e < elements.size(); ++e)
-    for (std::int32_t t : elements[e].tets)
-      if (t >= 0) owner[t] = static_cast<std::int32_t>(e);
+  const std::vector<std::int32_t> owner = state.element_of_tets();
   std::vector<char> dissolve(elements.size(), 0);
   for (std::size_t s = 0; s < m.tets.size(); ++s) {
     const auto t = static_cast<std::int32_t>(s);
-    if (used[t]) continue;
+    if (state.used[t]) continue;
     const double q = tet_quality(topo, t);
-    if (!(q < flat_sj)) continue;
+    if (!(q < state.limits.sliver_quality)) continue;
     const auto& T = m.tets[t];
     auto mark = [&](std::int32_t other) {
       const std::int32_t e = owner[other];

@@ -24,6 +24,14 @@ void RecombineState::erase(const std::vector<char>& drop) {
   elements.resize(k);
 }
 
+std::vector<std::int32_t> RecombineState::element_of_tets() const {
+  std::vector<std::int32_t> owner(used.size(), -1);
+  for (std::size_t e = 0; e < elements.size(); ++e)
+    for (std::int32_t t : elements[e].tets)
+      if (t >= 0) owner[t] = static_cast<std::int32_t>(e);
+  return owner;
+}
+
 void RecombineState::remove(const std::vector<char>& drop, std::size_t* undone) {
   for (std::size_t i = 0; i < elements.size(); ++i) {
     if (!drop[i]) continue;

@@ -41,6 +41,8 @@ struct RecombineState {
   void release(std::size_t i);
   // Erases the elements with drop[i] set (order kept), without touching the tets.
   void erase(const std::vector<char>& drop);
+  // For each tet, the index of the element that holds it, or -1.
+  std::vector<std::int32_t> element_of_tets() const;
   // release + erase of the elements with drop[i] set; adds how many of each kind went to
   // undone[kind] when given.
   void remove(const std::vector<char>& drop, std::size_t* undone = nullptr);

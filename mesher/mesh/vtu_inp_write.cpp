@@ -1,8 +1,8 @@
 // VTK XML (.vtu) and Abaqus/CalculiX (.inp) writers, and the by-extension dispatch.
 #include <charconv>
-#include <concepts>
 #include <set>
 #include <string>
+#include <type_traits>
 
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/element_topology.hpp"
@@ -47,16 +47,11 @@ constexpr int kInpOrder2[kNumCellKinds][kMaxElementNodes] = {
     {0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11},
     {0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15}};
 
-void put(std::string& s, double v) {
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
-  s.append(buf, r.ptr);
-  s.push_back(' ');
-}
+// A number and a space (shortest round-trip form for doubles).
 template <class T>
-requires std::integral<T>
+requires std::is_arithmetic_v<T>
 void put(std::string& s, T v) {
-  char buf[24];
+  char buf[32];
   auto r = std::to_chars(buf, buf + sizeof buf, v);
   s.append(buf, r.ptr);
   s.push_back(' ');
