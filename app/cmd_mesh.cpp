@@ -176,6 +176,9 @@ RegisterCommand reg{
        sub.add_flag("--no-pyramids", a->volume.no_pyramids, "make no pyramids");
        sub.add_flag("--no-nc-repair{false}", a->volume.nc_repair,
                     "keep elements that make more NC quad faces than they match (study)");
+       sub.add_flag("--conformal", a->volume.conformal,
+                    "no NC face: each made conformal with a pyramid and tets (a hex kept) or by "
+                    "splitting its cell");
        sub.add_option("--nc-hex-gain", a->volume.nc_hex_gain,
                       "a hex goes back to tets when that removes at least this many NC faces");
        sub.add_flag("--nearest-frame{false}", a->volume.inherit_frame,

@@ -69,6 +69,17 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
                     {"undone", by_kind(r.nc_undone, true)},
                     {"pyramids_added", r.nc_repair_pyramids},
                     {"prisms_added", r.nc_repair_prisms}};
+  if (r.conformal.nc_before > 0) {
+    const ConformalReport& c = r.conformal;
+    j["conformal"] = {{"nc_faces_before", c.nc_before},
+                      {"nc_faces_after", c.nc_after},
+                      {"pyramids", c.pyramids},
+                      {"pyramids_without_new_node", c.shell_pyramids},
+                      {"new_nodes", c.steiner_points},
+                      {"cells_split", by_kind(c.cells_split, true)},
+                      {"h_vol_before", c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0},
+                      {"h_vol_after", c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0}};
+  }
   nlohmann::json stages = nlohmann::json::array();
   for (const auto& s : r.stages)
     stages.push_back({{"stage", s.name}, {"seconds", s.seconds}, {"cpu_seconds", s.cpu_seconds}});
@@ -126,6 +137,20 @@ std::string volume_report_text(const VolumeReport& r) {
         r.nc_undone[static_cast<int>(CellKind::Wedge6)],
         r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids,
         r.nc_repair_prisms);
+  if (r.conformal.nc_before > 0) {
+    const ConformalReport& c = r.conformal;
+    line(
+        "conformal       %zu -> %zu NC faces: %zu pyramids (%zu on two tets, %zu on a filled edge "
+        "shell), %zu cells split (hex %zu, prism %zu, pyramid %zu), %zu new nodes; H_vol %.2f -> "
+        "%.2f %%",
+        c.nc_before, c.nc_after, c.pyramids, c.shell_pyramids, c.pyramids - c.shell_pyramids,
+        c.cells_split[0] + c.cells_split[1] + c.cells_split[2] + c.cells_split[3],
+        c.cells_split[static_cast<int>(CellKind::Hex8)],
+        c.cells_split[static_cast<int>(CellKind::Wedge6)],
+        c.cells_split[static_cast<int>(CellKind::Pyramid5)], c.steiner_points,
+        c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0,
+        c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0);
+  }
   for (const auto& st : r.stages)
     line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);
   line("time total                 %8.3f s wall %8.3f s cpu (%d threads)", r.total_seconds,

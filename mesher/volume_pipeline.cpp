@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "mesher/conformal.hpp"
 #include "mesher/frame_field_3d.hpp"
 #include "mesher/mesh/conformity.hpp"
 #include "mesher/mesh/element_topology.hpp"
@@ -212,10 +213,15 @@ MixedMesh finish_mesh(RecombineState& s, const SurfaceMesh& surface, const Volum
   MixedMesh mesh = assemble(surface, s, flips);
   // The cell faces, sorted once for the NC flags and the statistics (moving vertices below keeps
   // them).
-  const std::vector<CellFaceRef> faces = sorted_cell_faces(mesh);
+  std::vector<CellFaceRef> faces = sorted_cell_faces(mesh);
   flag_nonconformal_quads(mesh, faces);
   r.lifted_cells = lift_slivers(mesh, s.topo.num_surface_nodes(), options.flat_tet_quality);
   r.stages.push_back(timer.lap("assembly + NC"));
+  if (options.conformal) {
+    r.conformal = make_conformal(mesh);
+    faces = sorted_cell_faces(mesh);
+    r.stages.push_back(timer.lap("conformal"));
+  }
 
   fill_report(s, mesh, faces, r);
   r.stages.push_back(timer.lap("statistics"));

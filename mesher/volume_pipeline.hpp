@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "mesher/conformal.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
 #include "mesher/stage_timer.hpp"
@@ -51,6 +52,8 @@ struct VolumeOptions {
   // also fills wedge gaps between elements with prisms. --no-nc-repair turns it off for studies.
   bool nc_repair = true;
   int nc_hex_gain = 2;
+  // --conformal: after assembly, every NC quad made conformal with real elements (conformal.hpp).
+  bool conformal = false;
 };
 
 struct VolumeReport {
@@ -86,6 +89,8 @@ struct VolumeReport {
   std::size_t nc_faces_before_repair = 0, nc_faces_after_repair = 0, nc_repair_pyramids = 0;
   std::size_t nc_repair_prisms = 0;  // prisms made in gaps between elements
   std::array<std::size_t, kNumCellKinds> nc_undone{};
+  // What the conformal pass did (--conformal; zeros without it).
+  ConformalReport conformal;
   // The mesh returned: vertices, cells per kind, H_nbr, H_vol, Q, NC, inverted, volume.
   MeshStats stats;
   std::vector<StageTime> stages;

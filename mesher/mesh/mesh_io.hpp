@@ -11,6 +11,10 @@
 
 namespace hexfem {
 
+// MSH 4.1 written by hexfem carries the NC quad faces (mesh.nc_cell) as quads (quad8 at order 2)
+// on a surface entity of their own in the physical group of this name; the reader skips them.
+inline constexpr const char* kNonconformalGroup = "nonconformal";
+
 // Reads a .msh file (format detected from its header). Throws hexfem::Error naming the file
 // and line on a corrupt or truncated file. Fills nc_cell/nc_local_face (flag_nonconformal_quads).
 MixedMesh read_msh(const std::filesystem::path& path);
@@ -39,8 +43,9 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path,
 
 // Abaqus/CalculiX input: *NODE (node i -> i+1), *ELEMENT (cell c -> c+1) as C3D8, C3D6, C3D4,
 // pyramids as C3D8 with the apex repeated; ELSETs EALL, E_HEX8, E_WEDGE6, E_PYRAMID5, E_TET4,
-// SOLID_<id>; NSETs NALL and FACE_<id> for each CAD face with boundary faces. Mesh only (no
-// material/step), so a deck can *INCLUDE it.
+// SOLID_<id>; NSETs NALL and FACE_<id> for each CAD face with boundary faces; when there are NC
+// quad faces, ELSET NC_ELEMENTS (the cells with one) and the element-face SURFACE NONCONFORMAL.
+// Mesh only (no material/step), so a deck can *INCLUDE it.
 void write_inp(const MixedMesh& mesh, const std::filesystem::path& path);
 
 // Writes by extension: .msh (options.binary), .vtu, .inp. Unknown extension: hexfem::Error.

@@ -136,9 +136,18 @@ struct Reader {
     return it->second;
   }
 
+  // The physical group hexfem's writer puts the NC quad faces in (mesh_io.hpp): not boundary
+  // faces; the NC flags are derived from the cells again.
+  int nc_physical() const {
+    for (const auto& [key, name] : mesh.physical_names)
+      if (key.first == 2 && name == kNonconformalGroup) return key.second;
+    return 0;
+  }
+
   void add_element(int type, int elementary, int physical, const long* tags) {
     std::int32_t ids[8];
     const int n = nodes_of_msh_type(type);
+    if ((type == 2 || type == 3) && physical != 0 && physical == nc_physical()) return;
     if (n < 0)
       in.fail("element type " + std::to_string(type) +
               " is not supported (only first-order points, lines, triangles, quads, tets, hexes, "
@@ -405,6 +414,9 @@ MixedMesh read_msh(const std::filesystem::path& path) {
     }
   }
   if (!have_nodes) in.fail("no $Nodes section");
+  std::erase_if(mesh.physical_names, [](const auto& kv) {
+    return kv.first.first == 2 && kv.second == kNonconformalGroup;
+  });
   flag_nonconformal_quads(mesh);
   return mesh;
 }

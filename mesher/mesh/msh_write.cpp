@@ -1,12 +1,13 @@
 // Gmsh MSH 4.1 writer (ASCII and binary). Entities: one volume per CAD solid, one surface per
-// CAD face; element blocks follow the runs of the mesh's own order so reading back gives the
-// same arrays.
+// CAD face, and one more for the NC quad faces (physical group "nonconformal"); element blocks
+// follow the runs of the mesh's own order so reading back gives the same arrays.
 #include <algorithm>
 #include <charconv>
 #include <limits>
 #include <set>
 
 #include "mesher/mesh/atomic_file.hpp"
+#include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 
 namespace hexfem {
@@ -90,9 +91,22 @@ struct Entity {
 
 // A run of consecutive elements with the same entity and type.
 struct Block {
+  enum Source { kBoundaryFaces, kCells, kNcFaces };
   int dim, entity, type;
-  std::size_t first, count;  // indices into bfaces (dim 2) or cells (dim 3)
+  std::size_t first, count;  // indices into bfaces, cells or the NC faces
+  Source source;
 };
+
+// The nodes of NC face i as a quad4 / quad8 (order 2: the cell's mid-edge nodes of its edges).
+int nc_face_nodes(const MixedMesh& mesh, std::size_t i, std::int32_t* out) {
+  const std::int32_t c = mesh.nc_cell[i];
+  const LocalFace& lf = faces_of(mesh.cell_kind[c]).face[mesh.nc_local_face[i]];
+  for (int k = 0; k < 4; ++k) out[k] = mesh.cell(c)[lf.v[k]];
+  if (mesh.order != 2) return 4;
+  for (int k = 0; k < 4; ++k)
+    out[4 + k] = mesh.cell_edges(c)[local_edge(mesh.cell_kind[c], lf.v[k], lf.v[(k + 1) % 4])];
+  return 8;
+}
 
 void write_body(const MixedMesh& mesh, MshOut& o) {
   std::map<std::pair<int, int>, Entity> entities;
@@ -116,10 +130,30 @@ void write_body(const MixedMesh& mesh, MshOut& o) {
     const int type = mesh.order == 2 ? (mesh.bface_is_quad(f) ? 16 : 9)  // quad8, tri6
                                      : (mesh.bface_is_quad(f) ? 3 : 2);
     if (blocks.empty() || blocks.back().entity != e.tag || blocks.back().type != type)
-      blocks.push_back({2, e.tag, type, f, 0});
+      blocks.push_back({2, e.tag, type, f, 0, Block::kBoundaryFaces});
     ++blocks.back().count;
   }
+  // The NC quad faces: one more surface entity, in the physical group kNonconformalGroup.
+  std::map<std::pair<int, int>, std::string> names = mesh.physical_names;
+  if (!mesh.nc_cell.empty()) {
+    int tag = 0, physical = 0;
+    for (const auto& [key, e] : entities) tag = std::max(tag, key.second);
+    for (int p : mesh.bface_physical) physical = std::max(physical, p);
+    for (const auto& [key, name] : names)
+      if (key.first == 2) physical = std::max(physical, key.second);
+    Entity& e = entity(2, tag + 1);
+    e.physicals.insert(physical + 1);
+    names[{2, physical + 1}] = kNonconformalGroup;
+    std::int32_t ids[8];
+    for (std::size_t i = 0; i < mesh.nc_cell.size(); ++i)
+      for (int k = 0, n = nc_face_nodes(mesh, i, ids); k < n; ++k) e.include(mesh.nodes[ids[k]]);
+    blocks.push_back({2, e.tag, mesh.order == 2 ? 16 : 3, 0, mesh.nc_cell.size(), Block::kNcFaces});
+  }
   const std::size_t face_blocks = blocks.size();
+  // With one physical group in the file, readers (meshio, gmsh's own SaveAll=0) look for every
+  // element in a group: each surface and volume without one gets its own, "face_<tag>" and
+  // "solid_<tag>". (Added once the cells' entities are known, below.)
+  const bool every_entity_in_a_group = !mesh.nc_cell.empty();
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
     Entity& e = entity(3, mesh.cell_solid[c]);
     if (mesh.cell_physical[c]) e.physicals.insert(mesh.cell_physical[c]);
@@ -127,8 +161,20 @@ void write_body(const MixedMesh& mesh, MshOut& o) {
     for (int i = 0, n = mesh.element_nodes(c, ids); i < n; ++i) e.include(mesh.nodes[ids[i]]);
     const int type = msh_type(mesh.cell_kind[c], mesh.order);
     if (blocks.size() == face_blocks || blocks.back().entity != e.tag || blocks.back().type != type)
-      blocks.push_back({3, e.tag, type, c, 0});
+      blocks.push_back({3, e.tag, type, c, 0, Block::kCells});
     ++blocks.back().count;
+  }
+  if (every_entity_in_a_group) {
+    int next[4] = {0, 0, 0, 0};
+    for (const auto& [key, e] : entities)
+      for (int p : e.physicals) next[key.first] = std::max(next[key.first], p);
+    for (const auto& [key, name] : names) next[key.first] = std::max(next[key.first], key.second);
+    for (auto& [key, e] : entities) {
+      if (!e.physicals.empty()) continue;
+      const int tag = ++next[key.first];
+      e.physicals.insert(tag);
+      names[{key.first, tag}] = (key.first == 3 ? "solid_" : "face_") + std::to_string(key.second);
+    }
   }
   // Nodes live on one entity: the first volume, else the first surface, else a volume 1.
   if (entities.empty()) entity(3, 1).include({0, 0, 0});
@@ -136,9 +182,9 @@ void write_body(const MixedMesh& mesh, MshOut& o) {
   for (const auto& [key, e] : entities)
     if (!home || (e.dim == 3 && home->dim != 3)) home = &e;
 
-  if (!mesh.physical_names.empty()) {
-    o.text("$PhysicalNames\n" + std::to_string(mesh.physical_names.size()) + "\n");
-    for (const auto& [key, name] : mesh.physical_names)
+  if (!names.empty()) {
+    o.text("$PhysicalNames\n" + std::to_string(names.size()) + "\n");
+    for (const auto& [key, name] : names)
       o.text(std::to_string(key.first) + " " + std::to_string(key.second) + " \"" + name + "\"\n");
     o.text("$EndPhysicalNames\n");
   }
@@ -179,7 +225,7 @@ void write_body(const MixedMesh& mesh, MshOut& o) {
   }
   if (o.binary()) o.text("\n");
   o.text("$EndNodes\n$Elements\n");
-  const std::size_t ne = mesh.num_bfaces() + mesh.num_cells();
+  const std::size_t ne = mesh.num_bfaces() + mesh.nc_cell.size() + mesh.num_cells();
   o.size(blocks.size());
   o.size(ne);
   o.size(ne ? 1 : 0);
@@ -195,7 +241,9 @@ void write_body(const MixedMesh& mesh, MshOut& o) {
     for (std::size_t k = b.first; k < b.first + b.count; ++k) {
       o.size(tag++);
       std::int32_t ids[kMaxElementNodes];
-      const int n = b.dim == 2 ? mesh.bface_element_nodes(k, ids) : mesh.element_nodes(k, ids);
+      const int n = b.source == Block::kBoundaryFaces ? mesh.bface_element_nodes(k, ids)
+                    : b.source == Block::kNcFaces     ? nc_face_nodes(mesh, k, ids)
+                                                      : mesh.element_nodes(k, ids);
       for (int i = 0; i < n; ++i) o.size(ids[i] + 1, i + 1 == n ? '\n' : ' ');
     }
   }

@@ -7,6 +7,7 @@
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
+#include "mesher/mesh/face_keys.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 #include "mesher/mesh/quality.hpp"
 
@@ -213,6 +214,50 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path, const V
   write_text(nc_path, nc_text);
 }
 
+namespace {
+
+// CalculiX's face numbers S1.. of C3D8/C3D20 and C3D6/C3D15 as corner sets (0-based, the INP
+// node order, which is the mesh's); a pyramid is a C3D8 on nodes 0 1 2 3 4 4 4 4: its base is S1.
+constexpr std::array<std::array<int, 4>, 6> kCcxHexFaces = {
+    {{0, 1, 2, 3}, {4, 7, 6, 5}, {0, 4, 5, 1}, {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 4, 0}}};
+constexpr std::array<std::array<int, 4>, 5> kCcxWedgeFaces = {
+    {{0, 1, 2, -1}, {3, 4, 5, -1}, {0, 1, 4, 3}, {1, 2, 5, 4}, {2, 0, 3, 5}}};
+
+// The S number of local quad face f of cell c.
+int ccx_face_number(const MixedMesh& mesh, std::int32_t c, int f) {
+  const CellKind k = mesh.cell_kind[c];
+  if (k == CellKind::Pyramid5) return 1;
+  const std::int32_t* ids = mesh.cell(c);
+  const FaceKey want = face_key(ids, faces_of(k).face[f]);
+  auto find = [&](const auto& table) {
+    for (std::size_t s = 0; s < table.size(); ++s) {
+      if (table[s][3] < 0) continue;
+      const LocalFace lf{4, table[s]};
+      if (face_key(ids, lf) == want) return static_cast<int>(s) + 1;
+    }
+    return 0;
+  };
+  return k == CellKind::Hex8 ? find(kCcxHexFaces) : find(kCcxWedgeFaces);
+}
+
+template <class IdList>
+void write_inp_nc_sets(const MixedMesh& mesh, std::string& s, IdList id_list) {
+  s += "** Non-conformal quad faces (a quad face against two triangles, not an identical quad): "
+       "ELSET NC_ELEMENTS\n** holds the elements with one, SURFACE NONCONFORMAL the faces "
+       "(element, CalculiX face number)\n";
+  std::set<long long> cells(mesh.nc_cell.begin(), mesh.nc_cell.end());
+  std::vector<long long> ids;
+  for (long long c : cells) ids.push_back(c + 1);
+  s += "*ELSET, ELSET=NC_ELEMENTS\n";
+  id_list(ids);
+  s += "*SURFACE, NAME=NONCONFORMAL, TYPE=ELEMENT\n";
+  for (std::size_t i = 0; i < mesh.nc_cell.size(); ++i)
+    s += std::to_string(mesh.nc_cell[i] + 1) + ", S" +
+         std::to_string(ccx_face_number(mesh, mesh.nc_cell[i], mesh.nc_local_face[i])) + "\n";
+}
+
+}  // namespace
+
 void write_inp(const MixedMesh& mesh, const std::filesystem::path& path) {
   std::string s;
   s.reserve(80 * (mesh.nodes.size() + mesh.num_cells()));
@@ -301,6 +346,7 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path) {
     s += "*NSET, NSET=FACE_" + std::to_string(face) + "\n";
     id_list(std::vector<long long>(ids.begin(), ids.end()));
   }
+  if (!mesh.nc_cell.empty()) write_inp_nc_sets(mesh, s, id_list);
   write_text(path, s);
 }
 

@@ -1,0 +1,42 @@
+// Conformal pass (--conformal): after assembly, every non-conformal quad face (a quad of a hex,
+// prism or pyramid against two triangles) is made conformal with real elements only.
+//
+// Takes: an assembled mixed mesh with its NC flags (flag_nonconformal_quads).
+// Gives: the same region filled by cells whose faces all match (NC 0), new interior nodes
+// appended to `nodes`. On an NC quad (a, b, c, d) split by the diagonal (a, c) on the far side:
+//  - the tets around the edge (a, c) on that side (its half shell) go; a pyramid on the quad and,
+//    for each shell tet (a, c, u, w), the tets (a, u, w, s) and (c, u, w, s) fill the shell, with
+//    s the shell's second vertex when the shell has two tets (the paper's pyramid: no new node),
+//    else a new node s placed where the worst new cell is best (the hex is kept);
+//  - where that cannot be done (a non-tet cell around the edge, no valid position for s), the
+//    quad's own cell is split about a new node at its centre: a pyramid on each matched or
+//    boundary quad, two tets on each NC quad (the far side's diagonal), a tet on each triangle.
+// Keeps: the union of the cells (the region), the boundary faces, every matched face; no new
+// cell with a min scaled Jacobian below ConformalOptions::min_quality.
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+#include "mesher/mesh/mixed_mesh.hpp"
+
+namespace hexfem {
+
+struct ConformalOptions {
+  double min_quality = 1e-3;  // no new cell with a lower min scaled Jacobian
+};
+
+struct ConformalReport {
+  std::size_t nc_before = 0, nc_after = 0;
+  std::size_t pyramids = 0;        // pyramids on NC quads (one per quad made conformal here)
+  std::size_t shell_pyramids = 0;  // of those, on a two-tet shell: no new node
+  std::size_t steiner_points = 0;  // new nodes (shell fills and cell splits)
+  std::array<std::size_t, kNumCellKinds> cells_split{};  // quad cells split about their centre
+  std::size_t failed = 0;  // NC quads left (none unless every way failed)
+  double hex_volume_before = 0, hex_volume_after = 0, volume = 0;
+};
+
+// Makes `mesh` conformal in place (see above); refreshes its NC flags.
+ConformalReport make_conformal(MixedMesh& mesh, const ConformalOptions& options = {});
+
+}  // namespace hexfem
