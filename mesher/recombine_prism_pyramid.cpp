@@ -212,19 +212,26 @@ std::size_t place_pyramids(RecombineState& state, std::vector<Candidate>& cands)
   return kept;
 }
 
+// The free tets with a min scaled Jacobian below `bound`, as (quality, tet) in tet order.
+static std::vector<std::pair<double, std::int32_t>> free_tets_below(const RecombineState& state,
+                                                                    double bound) {
+  std::vector<std::pair<double, std::int32_t>> found;
+  for (std::size_t s = 0; s < state.used.size(); ++s) {
+    if (state.used[s]) continue;
+    const double q = tet_quality(state.topo, static_cast<std::int32_t>(s));
+    if (q < bound) found.emplace_back(q, static_cast<std::int32_t>(s));
+  }
+  return found;
+}
+
 std::size_t merge_slivers_into_pyramids(RecombineState& state) {
   const TetTopology& topo = state.topo;
   const std::vector<char>& used = state.used;
-  const double flat_sj = state.limits.sliver_quality;
   const double min_pyramid = state.limits.min_pyramid_quality;
   const TetMesh& m = topo.mesh();
   // Flattest first: a flat tet gets the tets around it before a mere sliver takes them.
-  std::vector<std::pair<double, std::int32_t>> by_quality;
-  for (std::size_t s = 0; s < m.tets.size(); ++s) {
-    if (used[s]) continue;
-    const double q = tet_quality(topo, static_cast<std::int32_t>(s));
-    if (q < flat_sj) by_quality.emplace_back(q, static_cast<std::int32_t>(s));
-  }
+  std::vector<std::pair<double, std::int32_t>> by_quality =
+      free_tets_below(state, state.limits.sliver_quality);
   if (by_quality.empty()) return 0;
   std::sort(by_quality.begin(), by_quality.end());
   std::vector<std::int32_t> slivers;
@@ -321,15 +328,13 @@ std::size_t merge_slivers_into_pyramids(RecombineState& state) {
 std::size_t dissolve_pyramids_next_to_slivers(RecombineState& state) {
   const TetTopology& topo = state.topo;
   const std::vector<Candidate>& elements = state.elements;
-  const double element_sj = state.limits.keep_tet_quality;
-  const TetMesh& m = topo.mesh();
   const std::vector<std::int32_t> owner = state.element_of_tets();
+  const TetMesh& m = topo.mesh();
+  const double element_sj = state.limits.keep_tet_quality;
   std::vector<char> dissolve(elements.size(), 0);
-  for (std::size_t s = 0; s < m.tets.size(); ++s) {
-    const auto t = static_cast<std::int32_t>(s);
-    if (state.used[t]) continue;
-    const double q = tet_quality(topo, t);
-    if (!(q < state.limits.sliver_quality)) continue;
+  for (const auto& slivers : free_tets_below(state, state.limits.sliver_quality)) {
+    const double q = slivers.first;
+    const std::int32_t t = slivers.second;
     const auto& T = m.tets[t];
     auto mark = [&](std::int32_t other) {
       const std::int32_t e = owner[other];
