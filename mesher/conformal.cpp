@@ -208,6 +208,26 @@ std::vector<std::int32_t> half_shell(const EditableMesh& em, std::int32_t cell,
   return {};
 }
 
+bool split_cell(EditableMesh& em, std::int32_t cell, const ConformalOptions& o, ConformalReport& r);
+
+// The pyramids holding edge (a, c) whose base does not hold both: once split about their centre
+// (a pyramid on the base, tets on the sides) only tets hold the edge. Empty when another cell
+// kind, or a pyramid with the edge in its base, holds it.
+std::vector<std::int32_t> pyramids_in_the_way(const EditableMesh& em, std::int32_t cell,
+                                              std::int32_t a, std::int32_t c) {
+  std::vector<std::int32_t> found;
+  bool other = false;
+  em.for_cells_with(a, c, cell, [&](std::int32_t x) {
+    if (em.kind(x) == CellKind::Tet4) return;
+    const std::int32_t* v = em.nodes(x);
+    const bool base_holds_both = em.kind(x) == CellKind::Pyramid5 &&
+                                 std::find(v, v + 4, a) != v + 4 && std::find(v, v + 4, c) != v + 4;
+    if (em.kind(x) != CellKind::Pyramid5 || base_holds_both) other = true;
+    found.push_back(x);
+  });
+  return other ? std::vector<std::int32_t>{} : found;
+}
+
 // Fills the half shell of the NC quad (cell, f) with a pyramid on the quad and tets; true when
 // done.
 bool fill_half_shell(EditableMesh& em, std::int32_t cell, int f, const ConformalOptions& o,
@@ -215,7 +235,14 @@ bool fill_half_shell(EditableMesh& em, std::int32_t cell, int f, const Conformal
   const std::array<std::int32_t, 4> q = quad_of(em, cell, f);
   const int d = em.far_diagonal(q, cell);
   if (d < 0) return false;
-  const std::vector<std::int32_t> shell = half_shell(em, cell, q, d);
+  std::vector<std::int32_t> shell = half_shell(em, cell, q, d);
+  if (shell.empty()) {  // pyramids in the way: split them (no hex volume), then try again
+    const std::vector<std::int32_t> pyramids = pyramids_in_the_way(em, cell, q[d], q[d + 2]);
+    if (pyramids.empty()) return false;
+    for (std::int32_t p : pyramids)
+      if (!split_cell(em, p, o, r)) return false;
+    shell = half_shell(em, cell, q, d);
+  }
   if (shell.size() < 2) return false;
   const std::int32_t a = q[d], c = q[d + 2];
   // The pyramid's base (0, 3, 2, 1) faces away from its apex: the quad as the cell sees it.
