@@ -338,6 +338,20 @@ bool split_cell(EditableMesh& em, std::int32_t cell, const ConformalOptions& o,
   return true;
 }
 
+// A flat tet on the four corners of quad (cell, f) (a sliver between its two diagonals): it
+// goes, as the recombination absorbs such slivers into their quad, so that the quad faces the
+// cells beyond it. True when one went.
+bool drop_flat_sliver_on(EditableMesh& em, std::int32_t cell, int f) {
+  const std::array<std::int32_t, 4> q = quad_of(em, cell, f);
+  const std::int32_t t = em.cell_with_triangle(q[0], q[1], q[2], cell);
+  if (t < 0 || em.kind(t) != CellKind::Tet4) return false;
+  const std::int32_t* v = em.nodes(t);
+  for (std::int32_t corner : q)
+    if (std::find(v, v + 4, corner) == v + 4) return false;
+  em.replace({t}, {}, false, {}, t);
+  return true;
+}
+
 double hex_volume(const MixedMesh& mesh, double* total) {
   double hex = 0;
   *total = 0;
@@ -372,6 +386,7 @@ ConformalReport make_conformal(MixedMesh& mesh, const ConformalOptions& options)
       const std::int32_t cell = nc_cell[i];
       if (!em.alive(cell)) continue;
       if (em.far_diagonal(quad_of(em, cell, nc_face[i]), cell) < 0) continue;
+      if (drop_flat_sliver_on(em, cell, nc_face[i])) ++r.absorbed_slivers;
       if (fill_half_shell(em, cell, nc_face[i], options, r)) continue;
       if (!split_cell(em, cell, options, r)) ++r.failed;
     }

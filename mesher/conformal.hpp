@@ -11,6 +11,8 @@
 //  - where that cannot be done (a non-tet cell around the edge, no valid position for s), the
 //    quad's own cell is split about a new node at its centre: a pyramid on each matched or
 //    boundary quad, two tets on each NC quad (the far side's diagonal), a tet on each triangle.
+// A flat tet on a quad's four corners (a sliver between its diagonals) is dropped first, as the
+// recombination absorbs such slivers: the only volume change, the sliver's own.
 // Keeps: the union of the cells (the region), the boundary faces, every matched face; no new
 // cell with a min scaled Jacobian below ConformalOptions::min_quality.
 #pragma once
@@ -32,7 +34,8 @@ struct ConformalReport {
   std::size_t shell_pyramids = 0;  // of those, on a two-tet shell: no new node
   std::size_t steiner_points = 0;  // new nodes (shell fills and cell splits)
   std::array<std::size_t, kNumCellKinds> cells_split{};  // quad cells split about their centre
-  std::size_t failed = 0;  // NC quads left (none unless every way failed)
+  std::size_t absorbed_slivers = 0;  // flat tets on a quad's four corners, dropped (a tiny volume)
+  std::size_t failed = 0;            // NC quads left (none unless every way failed)
   double hex_volume_before = 0, hex_volume_after = 0, volume = 0;
 };
 

@@ -76,6 +76,7 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
                       {"pyramids", c.pyramids},
                       {"pyramids_without_new_node", c.shell_pyramids},
                       {"new_nodes", c.steiner_points},
+                      {"flat_slivers_dropped", c.absorbed_slivers},
                       {"cells_split", by_kind(c.cells_split, true)},
                       {"h_vol_before", c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0},
                       {"h_vol_after", c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0}};
@@ -142,14 +143,14 @@ std::string volume_report_text(const VolumeReport& r) {
     line(
         "conformal       %zu -> %zu NC faces: %zu pyramids (%zu on two tets, %zu on a filled edge "
         "shell), %zu cells split (hex %zu, prism %zu, pyramid %zu), %zu new nodes; H_vol %.2f -> "
-        "%.2f %%",
+        "%.2f %%; %zu flat slivers on quads dropped",
         c.nc_before, c.nc_after, c.pyramids, c.shell_pyramids, c.pyramids - c.shell_pyramids,
         c.cells_split[0] + c.cells_split[1] + c.cells_split[2] + c.cells_split[3],
         c.cells_split[static_cast<int>(CellKind::Hex8)],
         c.cells_split[static_cast<int>(CellKind::Wedge6)],
         c.cells_split[static_cast<int>(CellKind::Pyramid5)], c.steiner_points,
         c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0,
-        c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0);
+        c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0, c.absorbed_slivers);
   }
   for (const auto& st : r.stages)
     line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);

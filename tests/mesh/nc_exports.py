@@ -9,6 +9,8 @@ another cell on three of its corners):
   - hexfem stats reads its own MSH back: same NC count, watertight (the group is not boundary);
   - the INP: ELSET NC_ELEMENTS and SURFACE NONCONFORMAL name the same faces (CalculiX face
     numbers decoded with ccx's tables), and CalculiX runs a frequency step on the deck with them.
+And --conformal on the same part: the same derivation finds no NC face, and hexfem stats finds the
+mesh valid and watertight.
 Usage: nc_exports.py HEXFEM CAD WORKDIR"""
 import collections
 import itertools
@@ -33,18 +35,26 @@ FACES = {"tetra": [(0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)],
          "wedge": [(0, 1, 2), (3, 4, 5), (0, 1, 4, 3), (0, 3, 5, 2), (1, 2, 5, 4)],
          "hexahedron": [(0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6),
                         (3, 0, 4, 7)]}
+
+
+def nc_faces(mesh):
+    """The quad faces no other cell has as a quad, with a triangle of another cell on three of
+    their corners."""
+    faces = collections.defaultdict(int)
+    quads = set()
+    for block in mesh.cells:
+        for cell in block.data if block.type in FACES else []:
+            for f in FACES[block.type]:
+                key = frozenset(int(cell[i]) for i in f)
+                faces[key] += 1
+                if len(f) == 4:
+                    quads.add(key)
+    return {q for q in quads if faces[q] == 1 and
+            any(faces.get(frozenset(t), 0) for t in itertools.combinations(q, 3))}
+
+
 m = meshio.read(msh)
-faces = collections.defaultdict(int)
-quads = set()
-for block in m.cells:
-    for cell in block.data if block.type in FACES else []:
-        for f in FACES[block.type]:
-            key = frozenset(int(cell[i]) for i in f)
-            faces[key] += 1
-            if len(f) == 4:
-                quads.add(key)
-nc = {q for q in quads if faces[q] == 1 and
-      any(faces.get(frozenset(t), 0) for t in itertools.combinations(q, 3))}
+nc = nc_faces(m)
 assert nc, "the cylinder at h = 0.9 should have NC faces"
 
 # meshio: the quads of the physical group named "nonconformal".
@@ -99,4 +109,14 @@ with open(os.path.join(work, "nc_job.inp"), "w") as f:
 subprocess.run(["ccx", "-i", "nc_job"], cwd=work, check=True, stdout=subprocess.DEVNULL)
 dat = open(os.path.join(work, "nc_job.dat")).read()
 assert "E I G E N V A L U E   O U T P U T" in dat, "ccx wrote no eigenvalues"
+# --conformal: no NC face left, by the same derivation and by hexfem stats; valid, watertight.
+conformal = os.path.join(work, "conformal.msh")
+subprocess.run([hexfem, "mesh", cad, "--h", "0.9", "-o", conformal, "--conformal"], check=True,
+               stdout=subprocess.DEVNULL)
+left = nc_faces(meshio.read(conformal))
+assert not left, f"--conformal left {len(left)} NC faces"
+stats = json.loads(subprocess.run([hexfem, "stats", conformal, "--json"], check=True,
+                                  capture_output=True, text=True).stdout)
+assert stats["nonconformal_quads"] == 0 and stats["watertight"], stats
+assert stats["inverted"] == 0 and stats["degenerate"] == 0, stats
 print(f"{len(nc)} NC faces: meshio, gmsh, hexfem stats and the INP sets agree; ccx ran")
