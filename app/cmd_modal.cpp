@@ -101,6 +101,8 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
     if (a.h != 0) throw Error("--h is for CAD input; '" + a.mesh + "' is already a mesh");
     if (!a.mesh_out.empty())
       throw Error("--mesh-out is for CAD input; '" + a.mesh + "' is already a mesh");
+    if (a.modal.conformal)
+      throw Error("--conformal is for CAD input; '" + a.mesh + "' is already a mesh");
   }
   if (!a.mesh_out.empty())
     check_output_file("--mesh-out", a.mesh_out, {"msh", "vtu", "inp"}, {a.mesh});
@@ -127,6 +129,7 @@ int run(const Args& a) {
     const CadModel cad = CadModel::read(a.mesh);
     MeshOptions mesh_options;
     mesh_options.surface.h = a.h;
+    mesh_options.volume.conformal = a.modal.conformal;
     part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
     mesh = std::move(part.mesh);
     r = std::move(part.modal);

@@ -27,6 +27,8 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
   sub.add_option("--solver", o.solver,
                  "direct (CHOLMOD), iterative (SLEPc LOBPCG + GAMG; also under mpirun) or auto "
                  "(default: by DOF count and the estimated factor memory)");
+  sub.add_flag("--conformal", o.conformal,
+               "CAD input: a mesh with no NC face (each made conformal with a pyramid and tets)");
   sub.add_flag("--force", o.force,
                "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
 }
