@@ -11,29 +11,47 @@
 
 namespace hexfem {
 
-NodeGraph node_graph(const MixedMesh& mesh) {
+namespace {
+
+// The nodes carrying cell c's DOFs (its own, tied ones replaced by their masters) into `out`
+// (kMaxTiedElementNodes slots); C, if given, receives the tie matrix when some node is tied.
+int dof_nodes(const MixedMesh& mesh, const NodeTies* ties, long c, std::int32_t* out,
+              double* C = nullptr, bool* tied = nullptr) {
+  std::int32_t ids[kMaxElementNodes] = {};
+  const int n = mesh.element_nodes(c, ids);
+  double scratch[kMaxElementNodes * kMaxTiedElementNodes];
+  const int k = ties ? tied_element_nodes(*ties, ids, n, out, C ? C : scratch) : -1;
+  if (tied) *tied = k >= 0;
+  if (k >= 0) return k;
+  std::copy(ids, ids + n, out);
+  return n;
+}
+
+}  // namespace
+
+NodeGraph node_graph(const MixedMesh& mesh, const NodeTies* ties) {
   const long nn = static_cast<long>(mesh.nodes.size());
   const long nc = static_cast<long>(mesh.num_cells());
   // Node -> cells, CSR (every node of the element: the mid-edge nodes too at order 2).
   std::vector<long> cptr(nn + 1, 0);
-  std::int32_t ids[kMaxElementNodes];
+  std::int32_t ids[kMaxTiedElementNodes];
   for (long c = 0; c < nc; ++c)
-    for (int k = 0, n = mesh.element_nodes(c, ids); k < n; ++k) ++cptr[ids[k] + 1];
+    for (int k = 0, n = dof_nodes(mesh, ties, c, ids); k < n; ++k) ++cptr[ids[k] + 1];
   for (long i = 0; i < nn; ++i) cptr[i + 1] += cptr[i];
   std::vector<std::int32_t> cells(cptr[nn]);
   {
     std::vector<long> fill(cptr.begin(), cptr.end() - 1);
     for (long c = 0; c < nc; ++c)
-      for (int k = 0, n = mesh.element_nodes(c, ids); k < n; ++k)
+      for (int k = 0, n = dof_nodes(mesh, ties, c, ids); k < n; ++k)
         cells[fill[ids[k]]++] = static_cast<std::int32_t>(c);
   }
   std::vector<std::vector<std::int32_t>> lists(nn);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (long i = 0; i < nn; ++i) {
     auto& l = lists[i];
-    std::int32_t en[kMaxElementNodes];
+    std::int32_t en[kMaxTiedElementNodes];
     for (long p = cptr[i]; p < cptr[i + 1]; ++p)
-      for (int k = 0, n = mesh.element_nodes(cells[p], en); k < n; ++k)
+      for (int k = 0, n = dof_nodes(mesh, ties, cells[p], en); k < n; ++k)
         if (en[k] != i) l.push_back(en[k]);
     std::sort(l.begin(), l.end());
     l.erase(std::unique(l.begin(), l.end()), l.end());
@@ -54,7 +72,7 @@ namespace {
 // The common pattern of the lower triangles: column (v,a) holds (v,b>=a) first, then the free
 // DOFs of the neighbours ranked after v, ascending.
 void build_pattern(const MixedMesh& mesh, const DofMap& dofs, SparseMatrix& K) {
-  const NodeGraph g = node_graph(mesh);
+  const NodeGraph g = node_graph(mesh, &dofs.ties);
   const long nn = static_cast<long>(mesh.nodes.size());
   const long n = dofs.num_free;
   std::vector<long> colptr(n + 1, 0);
@@ -120,22 +138,25 @@ SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const
   double mass = 0;
 #pragma omp parallel reduction(+ : mass)
   {
-    constexpr int kMaxDofs = 3 * kMaxElementNodes;
-    std::vector<double> Ke(kMaxDofs * kMaxDofs), me(kMaxElementNodes * kMaxElementNodes);
+    constexpr int kMaxDofs = 3 * kMaxElementNodes, kMaxTiedDofs = 3 * kMaxTiedElementNodes;
+    std::vector<double> Kbuf(kMaxDofs * kMaxDofs), mbuf(kMaxElementNodes * kMaxElementNodes);
+    std::vector<double> Kt(kMaxTiedDofs * kMaxTiedDofs),
+        mt(kMaxTiedElementNodes * kMaxTiedElementNodes), C(kMaxElementNodes * kMaxTiedElementNodes);
     Vec3 x[kMaxElementNodes];
-    std::int32_t ids[kMaxElementNodes];
+    std::int32_t ids[kMaxTiedElementNodes];
 #pragma omp for schedule(dynamic, 256)
     for (long c = 0; c < nc; ++c) {
       const CellKind kind = mesh.cell_kind[c];
       const ReferenceElement& ref = reference_element(kind, mesh.order);
-      const int n = ref.n, nd = 3 * n;
+      int n = ref.n, nd = 3 * n;
+      double *Ke = Kbuf.data(), *me = mbuf.data();
       mesh.element_nodes(c, ids);
       for (int i = 0; i < n; ++i)
         for (int d = 0; d < 3; ++d) x[i][d] = mesh.nodes[ids[i]][d] * length_scale;
       // Incompatible modes enrich the trilinear hex only; hex20 needs none.
-      const bool bad = !(element_matrices(ref, x, mat, Ke.data(), me.data()) > 0) ||
+      const bool bad = !(element_matrices(ref, x, mat, Ke, me) > 0) ||
                        (incompatible_hex && kind == CellKind::Hex8 && mesh.order == 1 &&
-                        !(hex8_incompatible_stiffness(x, mat, Ke.data()) > 0));
+                        !(hex8_incompatible_stiffness(x, mat, Ke) > 0));
       if (bad) {
         long expected = bad_cell.load();
         while (c < expected && !bad_cell.compare_exchange_weak(expected, c)) {
@@ -143,6 +164,15 @@ SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const
         continue;
       }
       for (int i = 0; i < n * n; ++i) mass += me[i];
+      bool tied = false;
+      const int k = dof_nodes(mesh, &dofs.ties, c, ids, C.data(), &tied);
+      if (tied) {  // a hanging node of an NC face: the matrices move onto its masters
+        tie_element_matrices(C.data(), n, k, Ke, me, Kt.data(), mt.data());
+        Ke = Kt.data();
+        me = mt.data();
+        n = k;
+        nd = 3 * k;
+      }
       for (int p = 0; p < n; ++p) {
         const std::int32_t np = ids[p];
         for (int q = 0; q < n; ++q) {

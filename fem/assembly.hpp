@@ -35,6 +35,7 @@ struct NodeGraph {
   std::vector<long> ptr;
   std::vector<std::int32_t> adj;
 };
-NodeGraph node_graph(const MixedMesh& mesh);
+// With ties, a tied node's cells couple its masters instead (the tied node has no neighbour).
+NodeGraph node_graph(const MixedMesh& mesh, const NodeTies* ties = nullptr);
 
 }  // namespace hexfem

@@ -228,12 +228,13 @@ DofMap number_free_dofs(const MixedMesh& mesh, const std::vector<std::uint8_t>& 
     throw Error("number_free_dofs: node order size does not match the mesh");
   const std::vector<std::uint8_t> used = used_nodes(mesh);
   DofMap map;
+  map.ties = nc_face_ties(mesh, fixed);
   map.dof.assign(3 * n, -1);
   map.node_rank.resize(n);
   for (std::size_t r = 0; r < n; ++r) {
     const std::int32_t v = node_order.empty() ? static_cast<std::int32_t>(r) : node_order[r];
     map.node_rank[v] = static_cast<std::int32_t>(r);
-    if (!used[v]) continue;
+    if (!used[v] || map.ties.tied(v)) continue;
     for (int a = 0; a < 3; ++a) {
       if (fixed[3 * v + a])
         ++map.num_fixed;
@@ -248,6 +249,7 @@ Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduce
   Eigen::VectorXd full = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(map.dof.size()));
   for (std::size_t i = 0; i < map.dof.size(); ++i)
     if (map.dof[i] >= 0) full[static_cast<Eigen::Index>(i)] = reduced[map.dof[i]];
+  fill_tied_nodes(map.ties, full.data());
   return full;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "fem/nc_ties.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
 
 namespace hexfem {
@@ -51,11 +52,14 @@ std::vector<std::uint8_t> select_fixed_dofs(const MixedMesh& mesh,
 // Equation numbers of the free DOFs: dof[3*i+a] = equation, or -1 when the DOF is fixed or its
 // node belongs to no cell. Equations follow `node_order` (a permutation of the nodes; empty
 // means 0..n-1), so a fill-reducing order of the nodes becomes the order of the matrix.
+// At order 2 the hanging mid-edge nodes of NC quad faces are tied (nc_ties.hpp): they carry no
+// equation (dof -1, counted neither free nor fixed) and follow their masters.
 struct DofMap {
   std::vector<std::int32_t> dof;
   std::vector<std::int32_t> node_rank;  // position of each node in the order
   std::int32_t num_free = 0;
   std::int32_t num_fixed = 0;  // fixed DOFs of nodes that belong to cells
+  NodeTies ties;
 };
 DofMap number_free_dofs(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
                         const std::vector<std::int32_t>& node_order = {});
@@ -77,7 +81,8 @@ struct UnheldRigidMotions {
 UnheldRigidMotions unheld_rigid_motions(const MixedMesh& mesh,
                                         const std::vector<std::uint8_t>& fixed);
 
-// Full nodal vector (3 * nodes, zeros at eliminated DOFs) from a vector of free DOFs.
+// Full nodal vector (3 * nodes, zeros at eliminated DOFs, tied nodes from their masters) from a
+// vector of free DOFs.
 Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduced);
 
 }  // namespace hexfem

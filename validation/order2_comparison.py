@@ -4,7 +4,7 @@
 chain Gmsh P2 tets + CalculiX C3D10 (validation/reference/reference_chain.py).
 
   validation/order2_comparison.py [--hexfem BIN] [--out validation/out/order2_comparison]
-      [--models steel,cylinder,gehause] [--json validation/order2_comparison.json]
+      [--models steel,cylinder,cone] [--json validation/order2_comparison.json]
       [--png validation/order2_comparison.png]
 
 Each model: its reference (validation/reference/<model>.json, the chain's Richardson
@@ -33,15 +33,14 @@ SHARED = "/work/shared/models"
 MODELS = {
     "steel": {"step": os.path.join(ROOT, "models", "steel_part.step"), "fix": "face:8",
               "axis": "x", "reference": "steel_part.json",
-              "order1": [2, 1.4142136, 1, 0.7071068, 0.5], "order2": [4, 2.8284271, 2, 1.4142136],
+              "order1": [2, 1.4142136, 1, 0.7071068], "order2": [4, 2.8284271, 2, 1.4142136],
               "tet10": [4, 3.2, 2.5, 2]},
     "cylinder": {"step": os.path.join(SHARED, "cylinder.stp"), "fix": "y<177.501", "axis": "y",
                  "reference": "cylinder.json", "order1": [2, 1.4142136, 1, 0.7071068],
                  "order2": [4, 2.8284271, 2, 1.4142136], "tet10": [4, 3.2, 2.5, 2]},
-    "gehause": {"step": os.path.join(SHARED, "gehause_rohteil.stp"), "fix": "x<0.001",
-                "axis": "x", "reference": "gehause_rohteil.json",
-                "order1": [1, 0.7071068, 0.5, 0.3535534], "order2": [2, 1.4142136, 1, 0.7071068],
-                "tet10": [2, 1.6, 1.25, 1]},
+    "cone": {"step": os.path.join(SHARED, "Cone_1.brep"), "fix": "z<0.001", "axis": "z",
+             "reference": "cone.json", "order1": [20, 14.142136, 10, 7.0710678],
+             "order2": [40, 28.284271, 20, 14.142136], "tet10": [40, 28, 20, 16]},
 }
 NF = 4  # f1..f4
 

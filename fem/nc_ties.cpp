@@ -1,0 +1,230 @@
+#include "fem/nc_ties.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "mesher/mesh/element_topology.hpp"
+
+namespace hexfem {
+
+namespace {
+
+std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+}
+
+// Serendipity quad8 on [-1,1]^2: corners (±1,±1) in the face's order, then the mid-edge nodes
+// of edges (0,1), (1,2), (2,3), (3,0). N[8], dN[8][2].
+void quad8_shape(double x, double y, double* N, double (*dN)[2]) {
+  static constexpr double c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  for (int i = 0; i < 4; ++i) {
+    const double a = c[i][0], b = c[i][1], fx = 1 + a * x, fy = 1 + b * y, s = a * x + b * y - 1;
+    N[i] = fx * fy * s / 4;
+    dN[i][0] = (a * fy * s + fx * fy * a) / 4;
+    dN[i][1] = (fx * b * s + fx * fy * b) / 4;
+  }
+  for (int e = 0; e < 4; ++e) {
+    const double a = (c[e][0] + c[(e + 1) % 4][0]) / 2, b = (c[e][1] + c[(e + 1) % 4][1]) / 2;
+    if (a == 0) {  // edge along x at y = b
+      N[4 + e] = (1 - x * x) * (1 + b * y) / 2;
+      dN[4 + e][0] = -x * (1 + b * y);
+      dN[4 + e][1] = (1 - x * x) * b / 2;
+    } else {  // edge along y at x = a
+      N[4 + e] = (1 - y * y) * (1 + a * x) / 2;
+      dN[4 + e][0] = (1 - y * y) * a / 2;
+      dN[4 + e][1] = -y * (1 + a * x);
+    }
+  }
+}
+
+// The quad8 face's reference point nearest to p (Gauss-Newton from the centre): the hanging
+// node's displacement is the face's trace there, so a linear field stays linear across it. On
+// a parallelogram that is the centre (weights -1/4, 1/2); on a distorted quad it is not.
+// Returns false when p is not on the face (farther than 1e-6 of its size, or outside).
+bool face_weights(const MixedMesh& mesh, const std::int32_t* nodes, const Vec3& p, double* w) {
+  double x = 0, y = 0, N[8], dN[8][2];
+  for (int it = 0; it < 20; ++it) {
+    quad8_shape(x, y, N, dN);
+    double r[3] = {-p[0], -p[1], -p[2]}, J[3][2] = {};
+    for (int i = 0; i < 8; ++i)
+      for (int a = 0; a < 3; ++a) {
+        r[a] += N[i] * mesh.nodes[nodes[i]][a];
+        J[a][0] += dN[i][0] * mesh.nodes[nodes[i]][a];
+        J[a][1] += dN[i][1] * mesh.nodes[nodes[i]][a];
+      }
+    double A[2][2] = {}, g[2] = {};
+    for (int a = 0; a < 3; ++a)
+      for (int u = 0; u < 2; ++u) {
+        g[u] += J[a][u] * r[a];
+        for (int v = 0; v < 2; ++v) A[u][v] += J[a][u] * J[a][v];
+      }
+    const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    if (!(det > 0)) break;
+    const double dx = (A[1][1] * g[0] - A[0][1] * g[1]) / det;
+    const double dy = (A[0][0] * g[1] - A[1][0] * g[0]) / det;
+    x = std::clamp(x - dx, -1.0, 1.0);
+    y = std::clamp(y - dy, -1.0, 1.0);
+    if (std::abs(dx) + std::abs(dy) < 1e-14) break;
+  }
+  quad8_shape(x, y, w, dN);
+  double size = 0, dist = 0;
+  for (int a = 0; a < 3; ++a) {
+    double xa = 0;
+    for (int i = 0; i < 8; ++i) xa += w[i] * mesh.nodes[nodes[i]][a];
+    dist += (xa - p[a]) * (xa - p[a]);
+    const double d = mesh.nodes[nodes[2]][a] - mesh.nodes[nodes[0]][a];
+    size += d * d;
+  }
+  return std::abs(x) < 0.999 && std::abs(y) < 0.999 && dist <= 1e-12 * size;
+}
+
+}  // namespace
+
+NodeTies nc_face_ties(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed) {
+  NodeTies t;
+  if (mesh.order != 2 || mesh.nc_cell.empty()) return t;
+  // Every edge's mid-edge node, and which nodes each NC cell has.
+  std::unordered_map<std::uint64_t, std::int32_t> mid;
+  mid.reserve(2 * mesh.num_cells());
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+    const CellKind k = mesh.cell_kind[c];
+    const std::int32_t* v = mesh.cell(c);
+    const std::int32_t* e = mesh.cell_edges(c);
+    for (int i = 0; i < num_edges(k); ++i)
+      mid.emplace(edge_key(v[edges_of(k)[i][0]], v[edges_of(k)[i][1]]), e[i]);
+  }
+  const auto find = [&](std::int32_t a, std::int32_t b) {
+    const auto it = mid.find(edge_key(a, b));
+    return it == mid.end() ? -1 : it->second;
+  };
+  t.slot.assign(mesh.nodes.size(), -1);
+  std::vector<std::int32_t> candidates;
+  for (std::size_t f = 0; f < mesh.nc_cell.size(); ++f) {
+    const std::size_t c = static_cast<std::size_t>(mesh.nc_cell[f]);
+    const LocalFace& lf = faces_of(mesh.cell_kind[c]).face[mesh.nc_local_face[f]];
+    if (lf.n != 4) continue;
+    std::int32_t q[4], m[4];
+    for (int i = 0; i < 4; ++i) q[i] = mesh.cell(c)[lf.v[i]];
+    bool ok = true;
+    for (int i = 0; i < 4; ++i) ok = ok && (m[i] = find(q[i], q[(i + 1) % 4])) >= 0;
+    if (!ok) continue;
+    for (int d = 0; d < 2; ++d) {
+      const std::int32_t h = find(q[d], q[d + 2]);  // a diagonal: only the triangles have it
+      if (h < 0 || t.slot[h] >= 0) continue;
+      bool is_fixed = false;
+      for (int a = 0; a < 3 && !fixed.empty(); ++a) is_fixed = is_fixed || fixed[3 * h + a];
+      if (is_fixed) {
+        ++t.refused;
+        continue;
+      }
+      const std::int32_t nodes[8] = {q[0], q[1], q[2], q[3], m[0], m[1], m[2], m[3]};
+      double w[8];
+      if (!face_weights(mesh, nodes, mesh.nodes[h], w)) {
+        ++t.refused;
+        continue;
+      }
+      t.slot[h] = static_cast<std::int32_t>(t.count++);
+      candidates.push_back(h);
+      for (int i = 0; i < 8; ++i) {
+        t.master.push_back(nodes[i]);
+        t.weight.push_back(w[i]);
+      }
+    }
+  }
+  // A master tied itself (two NC faces sharing an edge as diagonal and side): left free.
+  for (std::int32_t h : candidates) {
+    const std::int32_t s = t.slot[h];
+    bool nested = false;
+    for (int i = 0; i < kTieMasters; ++i) nested = nested || t.tied(t.master[kTieMasters * s + i]);
+    if (nested) {
+      for (int i = 0; i < kTieMasters; ++i) t.weight[kTieMasters * s + i] = 0;
+      t.slot[h] = -1;
+      ++t.refused;
+    }
+  }
+  long live = 0;
+  for (std::int32_t v : t.slot) live += v >= 0;
+  t.count = live;
+  if (live == 0) t.slot.clear();
+  return t;
+}
+
+int tied_element_nodes(const NodeTies& ties, const std::int32_t* ids, int n, std::int32_t* out,
+                       double* C) {
+  if (ties.slot.empty()) return -1;
+  bool any = false;
+  for (int i = 0; i < n && !any; ++i) any = ties.tied(ids[i]);
+  if (!any) return -1;
+  int k = 0;
+  const auto index = [&](std::int32_t v) {
+    for (int j = 0; j < k; ++j)
+      if (out[j] == v) return j;
+    out[k] = v;
+    return k++;
+  };
+  // Columns first (the untied nodes keep their order), then C.
+  int col[kMaxElementNodes];
+  for (int i = 0; i < n; ++i) col[i] = ties.tied(ids[i]) ? -1 : index(ids[i]);
+  int mcol[kMaxElementNodes][kTieMasters];
+  for (int i = 0; i < n; ++i)
+    if (col[i] < 0) {
+      const std::int32_t s = ties.slot[ids[i]];
+      for (int j = 0; j < kTieMasters; ++j) mcol[i][j] = index(ties.master[kTieMasters * s + j]);
+    }
+  std::fill(C, C + n * k, 0.0);
+  for (int i = 0; i < n; ++i) {
+    if (col[i] >= 0) {
+      C[i * k + col[i]] = 1;
+      continue;
+    }
+    const std::int32_t s = ties.slot[ids[i]];
+    for (int j = 0; j < kTieMasters; ++j) C[i * k + mcol[i][j]] += ties.weight[kTieMasters * s + j];
+  }
+  return k;
+}
+
+void tie_element_matrices(const double* C, int n, int k, const double* K, const double* m,
+                          double* K_out, double* m_out) {
+  const int nd = 3 * n, kd = 3 * k;
+  // m' = Cᵀ m C, via T = m C (n x k).
+  std::vector<double> T(static_cast<std::size_t>(n) * k, 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (const double v = m[i * n + j])
+        for (int q = 0; q < k; ++q) T[i * k + q] += v * C[j * k + q];
+  std::fill(m_out, m_out + k * k, 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int p = 0; p < k; ++p)
+      if (const double c = C[i * k + p])
+        for (int q = 0; q < k; ++q) m_out[p * k + q] += c * T[i * k + q];
+  // K' = (C ⊗ I)ᵀ K (C ⊗ I), per component pair (a, b), via U = K (C ⊗ I) (nd x kd).
+  std::vector<double> U(static_cast<std::size_t>(nd) * kd, 0.0);
+  for (int r = 0; r < nd; ++r)
+    for (int j = 0; j < n; ++j)
+      for (int b = 0; b < 3; ++b)
+        if (const double v = K[r * nd + 3 * j + b])
+          for (int q = 0; q < k; ++q) U[r * kd + 3 * q + b] += v * C[j * k + q];
+  std::fill(K_out, K_out + kd * kd, 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int a = 0; a < 3; ++a)
+      for (int p = 0; p < k; ++p)
+        if (const double c = C[i * k + p])
+          for (int s = 0; s < kd; ++s) K_out[(3 * p + a) * kd + s] += c * U[(3 * i + a) * kd + s];
+}
+
+void fill_tied_nodes(const NodeTies& ties, double* u) {
+  for (std::size_t v = 0; v < ties.slot.size(); ++v) {
+    const std::int32_t s = ties.slot[v];
+    if (s < 0) continue;
+    for (int a = 0; a < 3; ++a) {
+      double sum = 0;
+      for (int j = 0; j < kTieMasters; ++j)
+        sum += ties.weight[kTieMasters * s + j] * u[3 * ties.master[kTieMasters * s + j] + a];
+      u[3 * v + a] = sum;
+    }
+  }
+}
+
+}  // namespace hexfem
