@@ -3,7 +3,8 @@
 H=${1:-build/app/hexfem}
 OUT=${2:-/tmp/conformal_table}; mkdir -p $OUT
 out=$OUT/table.tsv; : > $out
-for f in /work/shared/models/*.*; do
+MODELS=${3:-../shared/models}
+for f in "$MODELS"/*.*; do
   case "$f" in *.md) continue;; esac
   n=$(basename "$f")
   diag=$($H info "$f" --json 2>/dev/null | /usr/bin/python3 -c "import json,sys,math; b=json.load(sys.stdin)['bbox']; print(math.dist(b[:3],b[3:]) if isinstance(b,list) else math.dist(b['min'],b['max']))" 2>/dev/null)
