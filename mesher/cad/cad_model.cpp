@@ -38,8 +38,10 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 
 #include "mesher/cad/cad_impl.hpp"
+#include "mesher/cad/step_check.hpp"
 #include "mesher/mesh/error.hpp"
 
 namespace hexfem {
@@ -106,6 +108,13 @@ TopoDS_Shape read_step(const fs::path& path, CadModel::Impl& m) {
   const std::string head = read_head(path, 64);
   if (head.find("ISO-10303-21") == std::string::npos)
     throw Error("'" + path.string() + "' is not a STEP file (no ISO-10303-21 header)");
+  {
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string problem = step_entity_problem(text);
+    if (!problem.empty())
+      throw Error("'" + path.string() + "' is not a readable STEP file: " + problem);
+  }
   STEPControl_Reader reader;
   // Convert every length to millimetres on transfer (the unit the mesher works in).
   Interface_Static::SetCVal("xstep.cascade.unit", "MM");

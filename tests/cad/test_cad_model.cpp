@@ -5,9 +5,11 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <string>
 
 #include "cad_test_util.hpp"
 #include "mesher/cad/cad_model.hpp"
+#include "mesher/cad/step_check.hpp"
 #include "mesher/mesh/error.hpp"
 
 namespace hexfem {
@@ -181,6 +183,23 @@ TEST(CadModel, BadInputGivesOneLineErrors) {
   { std::ofstream(work("garbage.brep")) << "not a brep\n"; }
   expect_error(work("garbage.brep").string(), "not a readable OCCT BREP");
   expect_error(data("SOURCES.md"), "unknown CAD format");
+}
+
+// The entity-number check (issue 14: OpenCASCADE crashed on "#1e999", numbers past 2^31 - 1 and
+// references to undefined entities), on texts whose answer is read off by hand.
+TEST(StepEntityCheck, NumbersAndReferences) {
+  const std::string head = "ISO-10303-21;\nHEADER;\nFILE_NAME('#9 in a string');\nENDSEC;\nDATA;\n";
+  EXPECT_EQ(step_entity_problem(head + "#1=A('x',#2);\n#2 = B(/* #77 */ 'it''s #5');\nENDSEC;"),
+            "");
+  EXPECT_EQ(step_entity_problem("no data section #99"), "");
+  EXPECT_EQ(step_entity_problem(head + "#1=A(#3);\n#2=B();\n"),
+            "entity #1 refers to #3, which the file does not define");
+  EXPECT_EQ(step_entity_problem(head + "#2147483648=A();\n"),
+            "entity number #2147483648 is past 2147483647");
+  EXPECT_EQ(step_entity_problem(head + "#1e999=A();\n"), "malformed entity number '#1e999'");
+  EXPECT_EQ(step_entity_problem(head + "#1=A(#2.5);\n#2=B();\n"), "malformed entity number '#2.5'");
+  EXPECT_EQ(step_entity_problem(head + "#1=A(#-1);\n"), "'#' without an entity number");
+  EXPECT_EQ(step_entity_problem(head + "#2147483647=A(#1);\n#1=B();\n"), "");
 }
 
 }  // namespace

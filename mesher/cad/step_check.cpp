@@ -1,0 +1,89 @@
+// Entity numbers of a STEP file (ISO 10303-21, clause 6) checked on the text: OpenCASCADE's
+// reader crashes on an entity number past 2^31 - 1, and its translator on a reference to an
+// entity the file does not define (both found by the fuzz run, issue 14).
+#include "mesher/cad/step_check.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <climits>
+#include <cstdint>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+namespace hexfem {
+
+namespace {
+
+bool word_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.';
+}
+
+}  // namespace
+
+std::string step_entity_problem(std::string_view text) {
+  const std::size_t data = text.find("DATA;");
+  if (data == std::string_view::npos) return "";
+  std::unordered_set<std::int64_t> defined;
+  std::vector<std::pair<std::int64_t, std::int64_t>> references;  // (to, from)
+  std::int64_t current = 0;  // the entity whose statement is being read
+  bool statement_start = true;
+  const std::size_t n = text.size();
+  for (std::size_t i = data + 5; i < n; ++i) {
+    const char c = text[i];
+    if (c == '\'') {  // a string; '' inside is a quote, read as two strings
+      const std::size_t end = text.find('\'', i + 1);
+      if (end == std::string_view::npos) return "";  // unterminated: the reader says so
+      i = end;
+      statement_start = false;
+      continue;
+    }
+    if (c == '/' && i + 1 < n && text[i + 1] == '*') {
+      const std::size_t end = text.find("*/", i + 2);
+      if (end == std::string_view::npos) return "";
+      i = end + 1;
+      continue;
+    }
+    if (c == ';') {
+      statement_start = true;
+      continue;
+    }
+    if (std::isspace(static_cast<unsigned char>(c)) != 0) continue;
+    if (c != '#') {
+      statement_start = false;
+      continue;
+    }
+    std::size_t j = i + 1;
+    std::int64_t id = 0;
+    while (j < n && std::isdigit(static_cast<unsigned char>(text[j])) != 0) {
+      if (id <= INT_MAX) id = id * 10 + (text[j] - '0');
+      ++j;
+    }
+    if (j == i + 1) return "'#' without an entity number";
+    if (id > INT_MAX)
+      return "entity number " + std::string(text.substr(i, std::min<std::size_t>(j - i, 40))) +
+             " is past 2147483647";
+    if (j < n && word_char(text[j])) {
+      std::size_t k = j;
+      while (k < n && k < j + 30 && word_char(text[k])) ++k;
+      return "malformed entity number '" + std::string(text.substr(i, k - i)) + "'";
+    }
+    std::size_t k = j;
+    while (k < n && std::isspace(static_cast<unsigned char>(text[k])) != 0) ++k;
+    if (statement_start && k < n && text[k] == '=') {
+      current = id;
+      defined.insert(id);
+    } else {
+      references.emplace_back(id, current);
+    }
+    statement_start = false;
+    i = j - 1;
+  }
+  for (const auto& [to, from] : references)
+    if (defined.count(to) == 0)
+      return "entity #" + std::to_string(from) + " refers to #" + std::to_string(to) +
+             ", which the file does not define";
+  return "";
+}
+
+}  // namespace hexfem

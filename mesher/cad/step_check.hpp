@@ -1,0 +1,16 @@
+// A check of a STEP file's entity numbers before OpenCASCADE reads it (issue 14).
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace hexfem {
+
+// What is wrong with the entity numbers of the DATA section of a STEP file's text, or "" when
+// nothing is: a number past 2^31 - 1 (OpenCASCADE's reader overflows it and crashes), a number
+// run into letters or a point ("#1e999"), a '#' without a number, or a reference to an entity
+// that is not defined (the translator dereferences the missing entity and crashes). Strings
+// and comments are skipped. Text without a DATA section gives "" (left to the reader).
+std::string step_entity_problem(std::string_view text);
+
+}  // namespace hexfem
