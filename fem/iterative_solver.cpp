@@ -367,20 +367,27 @@ void translation(const Layout& L, const std::vector<std::uint8_t>& fixed, int d,
   HEXFEM_PETSC(VecRestoreArray(r, &a));
 }
 
-std::string failure_message(EPS eps, const JobParams& job, const Monitor& mon, long n) {
-  PetscInt nconv = 0, its = 0;
+std::string failure_message(EPS eps, const JobParams& job, const Monitor& mon, long n,
+                            bool breakdown = false) {
+  PetscInt nconv = 0, its = 0, max_its = 0;
+  PetscReal tol = job.settings.tolerance;
   EPSConvergedReason reason;
+  EPSType type = nullptr;
   EPSGetConverged(eps, &nconv);
   EPSGetIterationNumber(eps, &its);
   EPSGetConvergedReason(eps, &reason);
+  EPSGetTolerances(eps, &tol, &max_its);  // PETSC_OPTIONS may have changed them
+  EPSGetType(eps, &type);
   char buf[400];
   std::snprintf(buf, sizeof buf,
-                "the iterative eigensolver (LOBPCG + GAMG) %s: %ld of %d modes converged after "
+                "the iterative eigensolver (%s + GAMG) %s: %ld of %d modes converged after "
                 "%ld iterations, residual reached %.3g (tolerance %.3g, %ld DOFs); try "
                 "--solver direct",
-                reason == EPS_DIVERGED_BREAKDOWN ? "broke down" : "did not converge",
+                type ? type : "lobpcg",
+                breakdown || reason == EPS_DIVERGED_BREAKDOWN ? "broke down" : "did not converge",
                 static_cast<long>(std::min<PetscInt>(nconv, job.num_modes)), job.num_modes,
-                static_cast<long>(its), mon.worst, job.settings.tolerance, n);
+                std::max(static_cast<long>(its), mon.iterations), mon.worst,
+                static_cast<double>(tol), n);
   return buf;
 }
 
@@ -550,7 +557,15 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     t0 = Clock::now();
     const PetscErrorCode solved = EPSSolve(eps);
     if (rank == 0) end_progress();
-    HEXFEM_PETSC(solved);
+    if (solved != 0) {  // a breakdown (e.g. an indefinite Gram matrix): say how far it got
+      std::string detail;
+      try {
+        HEXFEM_PETSC(solved);
+      } catch (const Error& e) {
+        detail = e.what();
+      }
+      throw Error(failure_message(eps, elastic, mon, n, true) + " [" + detail + "]");
+    }
     out.solve_seconds = seconds_since(t0);
     PetscInt nconv = 0, its = 0;
     HEXFEM_PETSC(EPSGetConverged(eps, &nconv));

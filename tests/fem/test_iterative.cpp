@@ -116,5 +116,25 @@ TEST(Iterative, AutoPicksDirectForSmallModelsAndSaysWhy) {
   EXPECT_THROW(solver_choice_from_option("cg"), Error);
 }
 
+// A tolerance below LOBPCG's round-off floor cannot be met: the run must end in a one-line error
+// that says how far it got (before, a breakdown surfaced as a bare LAPACK message).
+TEST(Iterative, ToleranceBelowRoundOffIsAnErrorWithTheResidual) {
+  const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
+  ModalOptions opt = steel(10, {"face:1"}, SolverChoice::Iterative);
+  opt.iterative.tolerance = 1e-15;
+  opt.iterative.max_iterations = 300;
+  try {
+    solve_modal(mesh, opt);
+    FAIL() << "a tolerance of 1e-15 cannot be met";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_TRUE(msg.find("broke down") != std::string::npos ||
+                msg.find("did not converge") != std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("residual reached"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+}
+
 }  // namespace
 }  // namespace hexfem
