@@ -75,6 +75,9 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
                       {"nc_faces_after", c.nc_after},
                       {"pyramids", c.pyramids},
                       {"pyramids_without_new_node", c.shell_pyramids},
+                      {"pyramids_about_a_shell_node", c.flip_pyramids},
+                      {"pyramids_in_a_grown_cavity", c.grown_cavities},
+                      {"cells_split_with_tets_behind", c.split_with_tets_behind},
                       {"new_nodes", c.steiner_points},
                       {"flat_slivers_dropped", c.absorbed_slivers},
                       {"cells_split", by_kind(c.cells_split, true)},
@@ -142,14 +145,16 @@ std::string volume_report_text(const VolumeReport& r) {
     const ConformalReport& c = r.conformal;
     line(
         "conformal       %zu -> %zu NC faces: %zu pyramids (%zu on two tets, %zu on a filled edge "
-        "shell), %zu cells split (hex %zu, prism %zu, pyramid %zu), %zu new nodes; H_vol %.2f -> "
-        "%.2f %%; %zu flat slivers on quads dropped",
-        c.nc_before, c.nc_after, c.pyramids, c.shell_pyramids, c.pyramids - c.shell_pyramids,
+        "shell, %zu of them about a node of the shell, %zu on a grown one), %zu cells split (hex "
+        "%zu, prism %zu, pyramid %zu; %zu with the tets behind a quad), %zu new nodes; H_vol %.2f "
+        "-> %.2f %%; %zu flat slivers on quads dropped",
+        c.nc_before, c.nc_after, c.pyramids, c.shell_pyramids,
+        c.pyramids - c.shell_pyramids - c.grown_cavities, c.flip_pyramids, c.grown_cavities,
         c.cells_split[0] + c.cells_split[1] + c.cells_split[2] + c.cells_split[3],
         c.cells_split[static_cast<int>(CellKind::Hex8)],
         c.cells_split[static_cast<int>(CellKind::Wedge6)],
-        c.cells_split[static_cast<int>(CellKind::Pyramid5)], c.steiner_points,
-        c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0,
+        c.cells_split[static_cast<int>(CellKind::Pyramid5)], c.split_with_tets_behind,
+        c.steiner_points, c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0,
         c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0, c.absorbed_slivers);
   }
   for (const auto& st : r.stages)
