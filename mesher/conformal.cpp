@@ -26,6 +26,10 @@ class EditableMesh {
  public:
   explicit EditableMesh(MixedMesh& m) : mesh(m), dead_(m.num_cells(), 0), at_(m.nodes.size()) {
     for (std::size_t c = 0; c < m.num_cells(); ++c) index_cell(static_cast<std::int32_t>(c));
+    for (std::size_t f = 0; f < m.num_bfaces(); ++f)
+      if (!m.bface_is_quad(f))
+        boundary_triangles_.push_back(triangle_key(m.bface(f)[0], m.bface(f)[1], m.bface(f)[2]));
+    std::sort(boundary_triangles_.begin(), boundary_triangles_.end());
   }
 
   MixedMesh& mesh;
@@ -71,6 +75,18 @@ class EditableMesh {
       if (count_with_triangle(q[d], q[d + 1], q[d + 2], cell) > 0 &&
           count_with_triangle(q[d], q[d + 2], q[(d + 3) % 4], cell) > 0)
         return d;
+    return -1;
+  }
+
+  // The diagonal d (0 or 1) of quad q whose halves are both stored boundary triangles (a cell's
+  // quad over two CAD faces keeps them, each with its CAD face), or -1.
+  int boundary_diagonal(const std::array<std::int32_t, 4>& q) const {
+    auto stored = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
+      return std::binary_search(boundary_triangles_.begin(), boundary_triangles_.end(),
+                                triangle_key(a, b, c));
+    };
+    for (int d = 0; d < 2; ++d)
+      if (stored(q[d], q[d + 1], q[d + 2]) && stored(q[d], q[d + 2], q[(d + 3) % 4])) return d;
     return -1;
   }
 
@@ -145,6 +161,7 @@ class EditableMesh {
   }
   std::vector<char> dead_;
   std::vector<std::vector<std::int32_t>> at_;  // node -> cells (dead ones included)
+  std::vector<FaceKey> boundary_triangles_;    // the stored boundary triangles, sorted
 };
 
 std::array<std::int32_t, 4> quad_of(const EditableMesh& em, std::int32_t cell, int f) {
@@ -353,7 +370,8 @@ bool grow_cavity(const EditableMesh& em, std::int32_t cell, std::vector<std::int
 
 // Appends the cones about kNewNode over the faces of `cell` but face `skip` (-1: none): a pyramid
 // on each quad face that is matched or on the boundary, two tets on each NC quad (along the far
-// side's diagonal), a tet on each triangle.
+// side's diagonal) and on each boundary quad stored as two triangles (along theirs), a tet on
+// each triangle.
 void cell_cones(const EditableMesh& em, std::int32_t cell, int skip, std::vector<NewCell>& cells) {
   const std::int32_t* v = em.nodes(cell);
   const CellFaces& cf = faces_of(em.kind(cell));
@@ -369,7 +387,8 @@ void cell_cones(const EditableMesh& em, std::int32_t cell, int skip, std::vector
       continue;
     }
     const std::array<std::int32_t, 4> q = quad_of(em, cell, f);
-    const int d = em.far_diagonal(q, cell);
+    int d = em.far_diagonal(q, cell);
+    if (d < 0) d = em.boundary_diagonal(q);
     if (d < 0) {
       cells.push_back({CellKind::Pyramid5, {q[0], q[3], q[2], q[1], kNewNode}});
     } else {
@@ -612,6 +631,48 @@ bool drop_flat_sliver_on(EditableMesh& em, std::int32_t cell, int f) {
   return true;
 }
 
+// A cell's boundary quad that the boundary faces keep as two triangles (over two CAD faces): a
+// pyramid becomes the two tets on those triangles (they are corner tets of the pyramid, so
+// positive), another cell is split about a node (two tets on the quad). Then every boundary face
+// is a face of a cell. Returns the cells changed.
+std::size_t split_on_boundary_triangles(MixedMesh& mesh, const ConformalOptions& o,
+                                        ConformalReport& r) {
+  EditableMesh em(mesh);
+  std::size_t changed = 0;
+  const auto n = static_cast<std::int32_t>(mesh.num_cells());
+  for (std::int32_t cell = 0; cell < n; ++cell) {
+    if (em.kind(cell) == CellKind::Tet4) continue;
+    const CellFaces& cf = faces_of(em.kind(cell));
+    for (int f = 0; f < cf.count; ++f) {
+      if (cf.face[f].n != 4) continue;
+      const std::array<std::int32_t, 4> q = quad_of(em, cell, f);
+      const int d = em.boundary_diagonal(q);
+      if (d < 0) continue;
+      if (em.kind(cell) == CellKind::Pyramid5) {
+        // q is the base (0, 1, 2, 3) as (0, 3, 2, 1): diagonal d of q is the base's d.
+        const std::int32_t* v = em.nodes(cell);
+        const int e = d;
+        const std::vector<NewCell> tets{
+            {CellKind::Tet4, {v[e], v[e + 1], v[e + 2], v[4], -1}},
+            {CellKind::Tet4, {v[e], v[e + 2], v[(e + 3) % 4], v[4], -1}}};
+        if (em.worst_quality(tets, {}) >= o.min_quality) {
+          em.replace({cell}, tets, false, {}, cell);
+          ++r.boundary_pyramids_split;
+          ++changed;
+          break;
+        }
+      }
+      if (split_cell(em, cell, o, r)) {
+        ++r.boundary_cells_split;
+        ++changed;
+      }
+      break;
+    }
+  }
+  em.compact();
+  return changed;
+}
+
 double hex_volume(const MixedMesh& mesh, double* total) {
   double hex = 0;
   *total = 0;
@@ -630,10 +691,7 @@ ConformalReport make_conformal(MixedMesh& mesh, const ConformalOptions& options)
   ConformalReport r;
   r.nc_before = mesh.nc_cell.size();
   r.hex_volume_before = hex_volume(mesh, &r.volume);
-  if (mesh.nc_cell.empty()) {
-    r.hex_volume_after = r.hex_volume_before;
-    return r;
-  }
+  if (split_on_boundary_triangles(mesh, options, r) > 0) flag_nonconformal_quads(mesh);
   // In the order of the NC flags (deterministic); a face is looked at again, since an earlier
   // split of its cell may have made it conformal already. A few rounds: a split next to a flat
   // sliver can leave the sliver's other side to the next round.

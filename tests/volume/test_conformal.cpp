@@ -272,6 +272,64 @@ TEST(Conformal, AHexOnAFoldedQuadIsRefilledWithTheTetsBehindIt) {
   expect_conformal_and_valid(m, volume);
 }
 
+// How many stored boundary faces are not a face of exactly one cell.
+std::size_t boundary_faces_off_the_cells(const MixedMesh& m) {
+  std::map<FaceKey, int> uses;
+  for (std::size_t c = 0; c < m.num_cells(); ++c) {
+    const CellFaces& cf = faces_of(m.cell_kind[c]);
+    for (int f = 0; f < cf.count; ++f) ++uses[face_key(m.cell(c), cf.face[f])];
+  }
+  std::size_t off = 0;
+  for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
+    FaceKey k{m.bface(f)[0], m.bface(f)[1], m.bface(f)[2], m.bface(f)[3]};
+    std::sort(k.begin(), k.end());
+    off += uses[k] != 1;
+  }
+  return off;
+}
+
+TEST(Conformal, APyramidOnTwoBoundaryTrianglesBecomesTheirTwoTets) {
+  // A pyramid whose base lies on two CAD faces: the boundary keeps the triangles (0,1,2) and
+  // (0,2,3), each with its CAD face. Its two corner tets on them replace it; nothing is NC.
+  MixedMesh m;
+  m.nodes = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 0.5}};
+  m.add_cell(CellKind::Pyramid5, {0, 1, 2, 3, 4});  // counter-clockwise seen from the apex
+  m.add_bface(0, 2, 1, -1, 1);
+  m.add_bface(0, 3, 2, -1, 2);
+  for (auto [a, b] : {std::pair{0, 1}, {1, 2}, {2, 3}, {3, 0}}) m.add_bface(a, b, 4, -1, 3);
+  flag_nonconformal_quads(m);
+  ASSERT_EQ(boundary_faces_off_the_cells(m), 2u);  // the two triangles
+  const ConformalReport r = make_conformal(m);
+  EXPECT_EQ(r.boundary_pyramids_split, 1u);
+  EXPECT_EQ(boundary_faces_off_the_cells(m), 0u);
+  const MeshStats s = compute_stats(m);
+  EXPECT_EQ(s.cells_per_kind[kTet], 2u);
+  EXPECT_EQ(s.cells_per_kind[kPyr], 0u);
+  expect_conformal_and_valid(m, 1.0 / 6);
+}
+
+TEST(Conformal, AHexOnTwoBoundaryTrianglesIsSplitAboutItsCentre) {
+  // The unit hex with its bottom kept as the triangles (0,2,1) and (0,3,2) of two CAD faces,
+  // its other faces as quads: split about its centre, two tets on the bottom, five pyramids.
+  MixedMesh m = unit_hex();
+  m.add_bface(0, 2, 1, -1, 1);
+  m.add_bface(0, 3, 2, -1, 2);
+  const CellFaces& cf = faces_of(CellKind::Hex8);
+  for (int f = 1; f < cf.count; ++f)
+    m.add_bface(cf.face[f].v[0], cf.face[f].v[1], cf.face[f].v[2], cf.face[f].v[3], 3);
+  flag_nonconformal_quads(m);
+  ASSERT_EQ(boundary_faces_off_the_cells(m), 2u);
+  const ConformalReport r = make_conformal(m);
+  EXPECT_EQ(r.boundary_cells_split, 1u);
+  EXPECT_EQ(r.cells_split[kHex], 1u);
+  EXPECT_EQ(boundary_faces_off_the_cells(m), 0u);
+  const MeshStats s = compute_stats(m);
+  EXPECT_EQ(s.cells_per_kind[kHex], 0u);
+  EXPECT_EQ(s.cells_per_kind[kPyr], 5u);
+  EXPECT_EQ(s.cells_per_kind[kTet], 2u);
+  expect_conformal_and_valid(m, 1.0);
+}
+
 TEST(Conformal, AConformalMeshIsLeftAlone) {
   MixedMesh m = unit_hex();
   const std::int32_t p = add_node(m, {0.5, 0.5, -0.5});
