@@ -32,8 +32,13 @@ struct ConformalReport {
   std::size_t nc_before = 0, nc_after = 0;
   std::size_t pyramids = 0;        // pyramids on NC quads (one per quad made conformal here)
   std::size_t shell_pyramids = 0;  // of those, on a two-tet shell: no new node
+  std::size_t flip_pyramids = 0;   // of those, on a larger shell refilled about a node of its own
+  std::size_t grown_cavities = 0;  // of those, in the shell grown by one or two layers of tets
   std::size_t steiner_points = 0;  // new nodes (shell fills and cell splits)
   std::array<std::size_t, kNumCellKinds> cells_split{};  // quad cells split about their centre
+  std::size_t split_with_tets_behind = 0;   // of those, together with the tets behind an NC quad
+  std::size_t boundary_pyramids_split = 0;  // pyramids on two boundary triangles: two tets
+  std::size_t boundary_cells_split = 0;     // other cells on them, split about a node
   std::size_t absorbed_slivers = 0;  // flat tets on a quad's four corners, dropped (a tiny volume)
   std::size_t failed = 0;            // NC quads left (none unless every way failed)
   double hex_volume_before = 0, hex_volume_after = 0, volume = 0;

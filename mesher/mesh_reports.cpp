@@ -69,12 +69,19 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
                     {"undone", by_kind(r.nc_undone, true)},
                     {"pyramids_added", r.nc_repair_pyramids},
                     {"prisms_added", r.nc_repair_prisms}};
-  if (r.conformal.nc_before > 0) {
+  if (r.conformal.nc_before + r.conformal.boundary_pyramids_split +
+          r.conformal.boundary_cells_split >
+      0) {
     const ConformalReport& c = r.conformal;
     j["conformal"] = {{"nc_faces_before", c.nc_before},
                       {"nc_faces_after", c.nc_after},
                       {"pyramids", c.pyramids},
                       {"pyramids_without_new_node", c.shell_pyramids},
+                      {"pyramids_about_a_shell_node", c.flip_pyramids},
+                      {"pyramids_in_a_grown_cavity", c.grown_cavities},
+                      {"cells_split_with_tets_behind", c.split_with_tets_behind},
+                      {"boundary_pyramids_split", c.boundary_pyramids_split},
+                      {"boundary_cells_split", c.boundary_cells_split},
                       {"new_nodes", c.steiner_points},
                       {"flat_slivers_dropped", c.absorbed_slivers},
                       {"cells_split", by_kind(c.cells_split, true)},
@@ -138,19 +145,25 @@ std::string volume_report_text(const VolumeReport& r) {
         r.nc_undone[static_cast<int>(CellKind::Wedge6)],
         r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids,
         r.nc_repair_prisms);
-  if (r.conformal.nc_before > 0) {
+  if (r.conformal.nc_before + r.conformal.boundary_pyramids_split +
+          r.conformal.boundary_cells_split >
+      0) {
     const ConformalReport& c = r.conformal;
     line(
         "conformal       %zu -> %zu NC faces: %zu pyramids (%zu on two tets, %zu on a filled edge "
-        "shell), %zu cells split (hex %zu, prism %zu, pyramid %zu), %zu new nodes; H_vol %.2f -> "
-        "%.2f %%; %zu flat slivers on quads dropped",
-        c.nc_before, c.nc_after, c.pyramids, c.shell_pyramids, c.pyramids - c.shell_pyramids,
+        "shell, %zu of them about a node of the shell, %zu on a grown one), %zu cells split (hex "
+        "%zu, prism %zu, pyramid %zu; %zu with the tets behind a quad), %zu new nodes; H_vol %.2f "
+        "-> %.2f %%; %zu flat slivers on quads dropped; on boundary quads kept as two triangles: "
+        "%zu pyramids made two tets, %zu cells split",
+        c.nc_before, c.nc_after, c.pyramids, c.shell_pyramids,
+        c.pyramids - c.shell_pyramids - c.grown_cavities, c.flip_pyramids, c.grown_cavities,
         c.cells_split[0] + c.cells_split[1] + c.cells_split[2] + c.cells_split[3],
         c.cells_split[static_cast<int>(CellKind::Hex8)],
         c.cells_split[static_cast<int>(CellKind::Wedge6)],
-        c.cells_split[static_cast<int>(CellKind::Pyramid5)], c.steiner_points,
-        c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0,
-        c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0, c.absorbed_slivers);
+        c.cells_split[static_cast<int>(CellKind::Pyramid5)], c.split_with_tets_behind,
+        c.steiner_points, c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0,
+        c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0, c.absorbed_slivers,
+        c.boundary_pyramids_split, c.boundary_cells_split);
   }
   for (const auto& st : r.stages)
     line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);

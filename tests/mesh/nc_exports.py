@@ -13,6 +13,9 @@ And --conformal on the same part: the same derivation finds no NC face, and hexf
 mesh valid and watertight.
 Usage: nc_exports.py HEXFEM CAD WORKDIR"""
 import collections
+import contextlib
+import importlib.util
+import io
 import itertools
 import json
 import os
@@ -21,6 +24,7 @@ import subprocess
 import sys
 
 import meshio
+import numpy as np
 
 hexfem, cad, work = sys.argv[1:4]
 os.makedirs(work, exist_ok=True)
@@ -119,4 +123,38 @@ stats = json.loads(subprocess.run([hexfem, "stats", conformal, "--json"], check=
                                   capture_output=True, text=True).stdout)
 assert stats["nonconformal_quads"] == 0 and stats["watertight"], stats
 assert stats["inverted"] == 0 and stats["degenerate"] == 0, stats
+# The independent check (validation/conformal_check.py): NC faces as derived here on the default
+# mesh, and on the conformal one every face matched, boundary faces = the file's boundary
+# elements, nothing inverted, the volume the one enclosed by the outer faces.
+check = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "validation",
+                     "conformal_check.py")
+for path, want_nc in ((msh, len(nc)), (conformal, 0)):
+    run = subprocess.run(["/usr/bin/python3", check, path], capture_output=True, text=True)
+    j = json.loads(run.stdout)
+    assert j["nc_quads"] == want_nc, (path, j)
+    assert j["conformal"] == (want_nc == 0) and run.returncode == (0 if want_nc == 0 else 1), j
+    assert j["unmatched_faces"] == 0 and j["boundary_elements_not_a_face"] == 0, j
+assert abs(j["volume"] - j["enclosed_volume"]) <= 1e-9 * j["volume"], j
+# The check fails on the conformal mesh spoilt: a tet turned inside out, one left out, one twice.
+spec = importlib.util.spec_from_file_location("conformal_check", check)
+checker = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(checker)
+read = meshio.read
+for spoil, field in (("flip", "inverted"), ("drop", "unmatched_faces"),
+                     ("dup", "faces_of_3_or_more_cells")):
+    def spoilt(*args, **kwargs):
+        mesh = read(*args, **kwargs)
+        block = next(b for b in mesh.cells if b.type == "tetra")
+        if spoil == "flip":
+            block.data[0, [1, 2]] = block.data[0, [2, 1]]
+        else:
+            block.data = block.data[1:] if spoil == "drop" else np.vstack([block.data,
+                                                                          block.data[:1]])
+        return mesh
+    checker.meshio.read = spoilt
+    with contextlib.redirect_stdout(io.StringIO()) as out:
+        code = checker.main(conformal)
+    j = json.loads(out.getvalue())
+    assert code == 1 and not j["conformal"] and j[field] > 0, (spoil, j)
+checker.meshio.read = read
 print(f"{len(nc)} NC faces: meshio, gmsh, hexfem stats and the INP sets agree; ccx ran")
