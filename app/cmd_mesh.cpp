@@ -101,7 +101,7 @@ int run(const MeshArgs& a) {
   check_mesh_volume(enclosed, cad.volume(), a.h, a.force);
   if (!a.output.empty()) {
     t0 = Clock::now();
-    write_mesh(surface.mesh, a.output, MshWriteOptions{a.binary});
+    write_mesh(surface.mesh, a.output, MeshWriteOptions{a.binary});
     rep.stage_seconds.emplace_back("write",
                                    std::chrono::duration<double>(Clock::now() - t0).count());
   }

@@ -133,7 +133,9 @@ int run(const Args& a) {
     part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
     mesh = std::move(part.mesh);
     r = std::move(part.modal);
-    if (!a.mesh_out.empty()) write_mesh(mesh, a.mesh_out);
+    if (!a.mesh_out.empty())
+      write_mesh(mesh, a.mesh_out,
+                 mesh_write_options(mesh, a.mesh_out, false, &part.mesh_report.warnings));
   } else {
     mesh = read_mesh(a.mesh);
     if (a.modal.order == 2 && mesh.order == 1)

@@ -1,5 +1,6 @@
 #include "app/part_modal.hpp"
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include "app/cli_checks.hpp"
 #include "fem/boundary.hpp"
 #include "fem/element.hpp"
+#include "fem/nc_ties.hpp"
 #include "mesher/cad/cad_project.hpp"
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
@@ -40,6 +42,31 @@ Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad) {
   add_mid_edge_nodes(mesh, project, &report);
   straighten_invalid_cells(mesh, element_jacobian_ratio, 0.05, &report);
   return report;
+}
+
+MeshWriteOptions mesh_write_options(const MixedMesh& mesh, const std::filesystem::path& path,
+                                    bool binary, std::vector<std::string>* warnings) {
+  MeshWriteOptions o;
+  o.binary = binary;
+  if (mesh.order != 2 || mesh.nc_cell.empty()) return o;
+  std::string ext = path.extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const NodeTies ties = nc_face_ties(mesh);
+  if (ext == ".inp") {
+    o.inp_ties = node_tie_list(ties);
+    if (ties.refused > 0 && warnings)
+      warnings->push_back(std::to_string(ties.refused) +
+                          " order-2 hanging nodes of NC faces could not be tied (nested or off "
+                          "their face) and are free in " +
+                          path.string() + "; use --conformal");
+  } else if (warnings) {
+    warnings->push_back(std::to_string(ties.count + ties.refused) + " order-2 hanging nodes (" +
+                        std::to_string(mesh.nc_cell.size()) + " NC quad faces) are free in " +
+                        path.string() +
+                        ": a solver that does not tie them sees a crack (hexfem modal ties them, "
+                        "an .inp carries the ties as *EQUATION, --conformal leaves none)");
+  }
+  return o;
 }
 
 std::string element_formulations(int order, bool incompatible_hex) {

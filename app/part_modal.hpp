@@ -38,6 +38,13 @@ PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_opti
 // `cad` is given, cells whose curving would leave min/max det J below 0.05 straightened.
 Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad);
 
+// The options to write `mesh` to `path`. At order 2 with NC faces the hanging mid-diagonal nodes
+// are tied as hexfem's solver ties them (fem/nc_ties.hpp): an .inp gets the ties as *EQUATION;
+// a .msh or .vtu cannot carry them, and a warning (added to `warnings`) says the nodes are free
+// there and names the ways out.
+MeshWriteOptions mesh_write_options(const MixedMesh& mesh, const std::filesystem::path& path,
+                                    bool binary, std::vector<std::string>* warnings);
+
 // One line naming the element formulations used at this order.
 std::string element_formulations(int order, bool incompatible_hex);
 

@@ -24,7 +24,7 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
   double write_seconds = 0;
   if (!a.output.empty()) {
     const auto t0 = std::chrono::steady_clock::now();
-    write_mesh(mesh, a.output, MshWriteOptions{a.binary});
+    write_mesh(mesh, a.output, mesh_write_options(mesh, a.output, a.binary, &report.warnings));
     write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   if (a.json) {

@@ -151,6 +151,19 @@ NodeTies nc_face_ties(const MixedMesh& mesh, const std::vector<std::uint8_t>& fi
   return t;
 }
 
+std::vector<NodeTie> node_tie_list(const NodeTies& ties) {
+  std::vector<NodeTie> out;
+  for (std::size_t v = 0; v < ties.slot.size(); ++v) {
+    const std::int32_t s = ties.slot[v];
+    if (s < 0) continue;
+    NodeTie& t = out.emplace_back();
+    t.node = static_cast<std::int32_t>(v);
+    for (int j = 0; j < kTieMasters; ++j)
+      t.masters.emplace_back(ties.master[kTieMasters * s + j], ties.weight[kTieMasters * s + j]);
+  }
+  return out;
+}
+
 int tied_element_nodes(const NodeTies& ties, const std::int32_t* ids, int n, std::int32_t* out,
                        double* C) {
   if (ties.slot.empty()) return -1;

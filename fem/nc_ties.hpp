@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "mesher/mesh/mesh_io.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
 
 namespace hexfem {
@@ -32,6 +33,9 @@ struct NodeTies {
 // The ties of an order-2 mesh's NC quad faces (mesh.nc_cell); none at order 1. A hanging node
 // with a fixed component (the mask of select_fixed_dofs, may be empty) is left free.
 NodeTies nc_face_ties(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed = {});
+
+// The ties as the exporters' plain list (tied node, its masters and weights), for the .inp.
+std::vector<NodeTie> node_tie_list(const NodeTies& ties);
 
 // The nodes that carry an element's DOFs: its own (ids, n of them), each tied node replaced by
 // its masters, no repeats. Writes them to `out` and C (n x count, row-major) with

@@ -2,6 +2,7 @@
 // MSH 4.1, VTK XML .vtu and Abaqus/CalculiX .inp out. Every write is atomic (temp + rename).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -19,11 +20,21 @@ inline constexpr const char* kNonconformalGroup = "nonconformal";
 // and line on a corrupt or truncated file. Fills nc_cell/nc_local_face (flag_nonconformal_quads).
 MixedMesh read_msh(const std::filesystem::path& path);
 
-struct MshWriteOptions {
-  bool binary = false;
+// A node whose displacement is a weighted sum of other nodes' (each component): at order 2 the
+// mid-diagonal node of an NC quad face, tied to the quad8's trace (fem/nc_ties.hpp). The .inp
+// writes each as three *EQUATIONs, so CalculiX sees the same tie as hexfem's solver.
+struct NodeTie {
+  std::int32_t node = -1;
+  std::vector<std::pair<std::int32_t, double>> masters;  // (node, weight)
+};
+
+struct MeshWriteOptions {
+  MeshWriteOptions(bool binary_msh = false) : binary(binary_msh) {}  // NOLINT: {binary} reads well
+  bool binary = false;                                               // .msh: MSH 4.1 binary
+  std::vector<NodeTie> inp_ties;  // .inp: written as *EQUATION; other formats cannot carry them
 };
 void write_msh(const MixedMesh& mesh, const std::filesystem::path& path,
-               const MshWriteOptions& options = {});
+               const MeshWriteOptions& options = {});
 
 // Extra arrays for a .vtu: field data (name, values) and point data with 3 components per node
 // (name, 3 * nodes values), e.g. mode shapes. `digits` > 0 rounds the point data to that many
@@ -45,12 +56,14 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path,
 // pyramids as C3D8 with the apex repeated; ELSETs EALL, E_HEX8, E_WEDGE6, E_PYRAMID5, E_TET4,
 // SOLID_<id>; NSETs NALL and FACE_<id> for each CAD face with boundary faces; when there are NC
 // quad faces, ELSET NC_ELEMENTS (the cells with one) and the element-face SURFACE NONCONFORMAL.
-// Mesh only (no material/step), so a deck can *INCLUDE it.
-void write_inp(const MixedMesh& mesh, const std::filesystem::path& path);
+// `ties` go out as *EQUATION (the tied node's DOF first, so CalculiX eliminates it). Mesh and
+// constraints only (no material/step), so a deck can *INCLUDE it.
+void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
+               const std::vector<NodeTie>& ties = {});
 
 // Writes by extension: .msh (options.binary), .vtu, .inp. Unknown extension: hexfem::Error.
 void write_mesh(const MixedMesh& mesh, const std::filesystem::path& path,
-                const MshWriteOptions& options = {});
+                const MeshWriteOptions& options = {});
 // Reads by extension (.msh only for now). Missing file / unknown extension: hexfem::Error.
 MixedMesh read_mesh(const std::filesystem::path& path);
 

@@ -254,7 +254,7 @@ void write_body(const MixedMesh& mesh, MshOut& o) {
 }  // namespace
 
 void write_msh(const MixedMesh& mesh, const std::filesystem::path& path,
-               const MshWriteOptions& options) {
+               const MeshWriteOptions& options) {
   write_atomically(path, options.binary, [&](std::ostream& out) {
     MshOut o(out, options.binary);
     o.text(options.binary ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");

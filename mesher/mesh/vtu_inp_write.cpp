@@ -256,9 +256,33 @@ void write_inp_nc_sets(const MixedMesh& mesh, std::string& s, IdList id_list) {
          std::to_string(ccx_face_number(mesh, mesh.nc_cell[i], mesh.nc_local_face[i])) + "\n";
 }
 
+// u_node,a - sum w_i u_master_i,a = 0 for a = 1..3, at most four terms (12 entries) a line.
+void write_inp_ties(const std::vector<NodeTie>& ties, std::string& s) {
+  s += "** Order-2 hanging nodes of the NC faces: each mid-diagonal node follows the quad8's "
+       "trace\n** (u = sum w_i u_i over the face's 8 nodes), as hexfem's solver ties "
+       "it\n*EQUATION\n";
+  for (const NodeTie& t : ties) {
+    std::vector<std::pair<std::int32_t, double>> terms{{t.node, 1.0}};
+    for (const auto& [m, w] : t.masters)
+      if (w != 0) terms.emplace_back(m, -w);
+    for (int a = 1; a <= 3; ++a) {
+      s += std::to_string(terms.size()) + "\n";
+      for (std::size_t i = 0; i < terms.size(); ++i) {
+        put(s, static_cast<long long>(terms[i].first + 1));
+        s.back() = ',';
+        put(s, a);
+        s.back() = ',';
+        put(s, terms[i].second);
+        s.back() = (i % 4 == 3 || i + 1 == terms.size()) ? '\n' : ',';
+      }
+    }
+  }
+}
+
 }  // namespace
 
-void write_inp(const MixedMesh& mesh, const std::filesystem::path& path) {
+void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
+               const std::vector<NodeTie>& ties) {
   std::string s;
   s.reserve(80 * (mesh.nodes.size() + mesh.num_cells()));
   s += "** hexfem mixed mesh: node i -> i+1, cell c -> c+1\n";
@@ -347,15 +371,16 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path) {
     id_list(std::vector<long long>(ids.begin(), ids.end()));
   }
   if (!mesh.nc_cell.empty()) write_inp_nc_sets(mesh, s, id_list);
+  if (!ties.empty()) write_inp_ties(ties, s);
   write_text(path, s);
 }
 
 void write_mesh(const MixedMesh& mesh, const std::filesystem::path& path,
-                const MshWriteOptions& options) {
+                const MeshWriteOptions& options) {
   const std::string ext = lower_extension(path);
   if (ext == "msh") return write_msh(mesh, path, options);
   if (ext == "vtu") return write_vtu(mesh, path);
-  if (ext == "inp") return write_inp(mesh, path);
+  if (ext == "inp") return write_inp(mesh, path, options.inp_ties);
   throw Error("unknown output format '." + ext + "' for '" + path.string() +
               "' (use .msh, .vtu or .inp)");
 }
