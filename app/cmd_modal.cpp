@@ -234,11 +234,12 @@ int run(const Args& a) {
               r.num_free_dofs, r.num_fixed_dofs, r.total_mass, r.volume);
   if (r.eigen.method == "iterative")
     std::printf(
-        "solver    iterative (SLEPc LOBPCG + PETSc GAMG, %d rank%s; %s): assembly %.2f s, AMG "
-        "setup %.2f s, LOBPCG %.2f s (%ld iterations), max residual %.1e, peak memory %.2f GB\n\n",
-        r.eigen.ranks, r.eigen.ranks > 1 ? "s" : "", r.solver_reason.c_str(), r.assemble_seconds,
-        r.eigen.setup_seconds, r.eigen.solve_seconds, r.eigen.iterations, r.eigen.max_residual,
-        r.eigen.peak_memory_bytes / 1e9);
+        "solver    iterative (SLEPc %s + PETSc GAMG, %d rank%s; %s): assembly %.2f s, AMG "
+        "setup %.2f s, eigensolver %.2f s (%ld iterations), max residual %.1e, peak memory "
+        "%.2f GB\n\n",
+        r.eigen.algorithm.c_str(), r.eigen.ranks, r.eigen.ranks > 1 ? "s" : "",
+        r.solver_reason.c_str(), r.assemble_seconds, r.eigen.setup_seconds, r.eigen.solve_seconds,
+        r.eigen.iterations, r.eigen.max_residual, r.eigen.peak_memory_bytes / 1e9);
   else
     std::printf(
         "solver    direct (CHOLMOD + Spectra; %s): order %.2f s, assembly %.2f s, factorization "

@@ -28,6 +28,7 @@ void to_json(nlohmann::json& j, const ModalResult& r) {
                  {"factor_nnz", r.eigen.factor_nnz},    {"shift", r.eigen.sigma},
                  {"max_residual", r.eigen.max_residual}};
   j["solver"]["method"] = r.eigen.method;
+  if (!r.eigen.algorithm.empty()) j["solver"]["algorithm"] = r.eigen.algorithm;
   j["solver"]["reason"] = r.solver_reason;
   j["solver"]["setup_s"] = r.eigen.setup_seconds;
   j["solver"]["solve_s"] = r.eigen.solve_seconds;

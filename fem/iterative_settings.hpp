@@ -13,7 +13,16 @@ struct IterativeSettings {
   // λ_max / λ_1 (mesh refinement): 1e-8 stagnated, then broke down (sygvd). 1e-5 is too loose
   // for the plate of test Iterative.PartlyFixed... (3 of 5 modes stuck at 1e-4).
   double tolerance = 1e-6;
-  int max_iterations = 1000;  // LOBPCG outer iterations (~30-40 needed at any size)
+  // LOBPCG outer iterations (~30-40 needed where it converges; a cluster of modes across the
+  // block's edge, as on a symmetric part, stalls it for good: then Krylov-Schur takes over).
+  int max_iterations = 200;
+  // The fallback: Krylov-Schur on (K - σM)^-1 M (shift-and-invert), each solve by CG with the
+  // same GAMG; its own relative test on the transformed eigenvalues (no round-off floor as
+  // LOBPCG's), and CG to a tighter tolerance than the eigen-residual it must resolve.
+  bool krylov_schur_fallback = true;
+  double krylov_schur_tolerance = 1e-9;
+  double cg_tolerance = 1e-11;
+  int krylov_schur_max_iterations = 300;
   // The preconditioner is AMG on K - σM, σ = -shift_fraction * median(K_ii / M_ii): positive
   // definite for free structures, and close enough to K not to weaken it.
   double shift_fraction = 1e-8;

@@ -52,6 +52,7 @@ struct JobOutput {
   double sigma = 0;  // the shift of K - σM
   double assemble_seconds = 0, setup_seconds = 0, solve_seconds = 0;
   long iterations = 0;
+  std::string algorithm;  // LOBPCG, or the fallback and why
   double max_residual = 0;
   double peak_memory_bytes = 0;
   long num_free = 0, num_fixed = 0;
@@ -325,28 +326,14 @@ PetscErrorCode monitor(EPS, PetscInt its, PetscInt nconv, PetscScalar*, PetscSca
   for (PetscInt i = 0; i < std::min<PetscInt>(nest, m->nev); ++i)
     m->worst = std::max(m->worst, static_cast<double>(errest[i]));
   if (mpi_rank() == 0)
-    show_progress("LOBPCG iteration " + std::to_string(its) + ": " + std::to_string(nconv) +
+    show_progress("eigensolver iteration " + std::to_string(its) + ": " + std::to_string(nconv) +
                   " of " + std::to_string(m->nev) + " modes converged");
   return 0;
 }
 
-void configure(EPS eps, const JobParams& job, ConvergenceScale* scale, Monitor* mon) {
-  const IterativeSettings& s = job.settings;
-  HEXFEM_PETSC(EPSSetProblemType(eps, EPS_GHEP));
-  HEXFEM_PETSC(EPSSetType(eps, EPSLOBPCG));
-  HEXFEM_PETSC(EPSSetWhichEigenpairs(eps, EPS_SMALLEST_REAL));
-  HEXFEM_PETSC(EPSSetDimensions(eps, job.num_modes, PETSC_DEFAULT, PETSC_DEFAULT));
-  HEXFEM_PETSC(EPSSetTolerances(eps, s.tolerance, s.max_iterations));
-  HEXFEM_PETSC(EPSSetConvergenceTestFunction(eps, convergence_test, scale, nullptr));
-  if (s.block_size > 0) HEXFEM_PETSC(EPSLOBPCGSetBlockSize(eps, s.block_size));
-  HEXFEM_PETSC(EPSMonitorSet(eps, monitor, mon, nullptr));
-  ST st;
-  KSP ksp;
+// The same GAMG on K - σM for either method.
+void configure_gamg(KSP ksp, const IterativeSettings& s) {
   PC pc;
-  HEXFEM_PETSC(EPSGetST(eps, &st));
-  HEXFEM_PETSC(STSetType(st, STPRECOND));
-  HEXFEM_PETSC(STGetKSP(st, &ksp));
-  HEXFEM_PETSC(KSPSetType(ksp, KSPPREONLY));
   HEXFEM_PETSC(KSPGetPC(ksp, &pc));
   HEXFEM_PETSC(PCSetType(pc, PCGAMG));
   HEXFEM_PETSC(PCGAMGSetType(pc, PCGAMGAGG));
@@ -354,6 +341,42 @@ void configure(EPS eps, const JobParams& job, ConvergenceScale* scale, Monitor* 
   PetscReal threshold[1] = {s.gamg_threshold};
   HEXFEM_PETSC(PCGAMGSetThreshold(pc, threshold, 1));
   HEXFEM_PETSC(PCGAMGSetCoarseEqLim(pc, s.gamg_coarse_eq_limit));
+}
+
+// LOBPCG (one GAMG V-cycle per vector and iteration) or, with krylov_schur, Krylov-Schur on
+// (K - σM)^-1 M: K - σM is positive definite, so target 0 and the largest |θ| = 1 / (λ - σ).
+void configure(EPS eps, const JobParams& job, ConvergenceScale* scale, Monitor* mon,
+               bool krylov_schur) {
+  const IterativeSettings& s = job.settings;
+  HEXFEM_PETSC(EPSSetProblemType(eps, EPS_GHEP));
+  HEXFEM_PETSC(EPSSetDimensions(eps, job.num_modes, PETSC_DEFAULT, PETSC_DEFAULT));
+  HEXFEM_PETSC(EPSMonitorSet(eps, monitor, mon, nullptr));
+  ST st;
+  KSP ksp;
+  HEXFEM_PETSC(EPSGetST(eps, &st));
+  if (krylov_schur) {
+    // Its own options prefix: PETSC_OPTIONS="-ks_eps_ncv 40 -ks_st_ksp_rtol 1e-12" tunes it
+    // apart from LOBPCG's "-eps_..." / "-st_...".
+    HEXFEM_PETSC(EPSSetOptionsPrefix(eps, "ks_"));
+    HEXFEM_PETSC(EPSSetType(eps, EPSKRYLOVSCHUR));
+    HEXFEM_PETSC(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
+    HEXFEM_PETSC(EPSSetTarget(eps, 0.0));
+    HEXFEM_PETSC(EPSSetTolerances(eps, s.krylov_schur_tolerance, s.krylov_schur_max_iterations));
+    HEXFEM_PETSC(STSetType(st, STSINVERT));
+    HEXFEM_PETSC(STGetKSP(st, &ksp));
+    HEXFEM_PETSC(KSPSetType(ksp, KSPCG));
+    HEXFEM_PETSC(KSPSetTolerances(ksp, s.cg_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
+  } else {
+    HEXFEM_PETSC(EPSSetType(eps, EPSLOBPCG));
+    HEXFEM_PETSC(EPSSetWhichEigenpairs(eps, EPS_SMALLEST_REAL));
+    HEXFEM_PETSC(EPSSetTolerances(eps, s.tolerance, s.max_iterations));
+    HEXFEM_PETSC(EPSSetConvergenceTestFunction(eps, convergence_test, scale, nullptr));
+    if (s.block_size > 0) HEXFEM_PETSC(EPSLOBPCGSetBlockSize(eps, s.block_size));
+    HEXFEM_PETSC(STSetType(st, STPRECOND));
+    HEXFEM_PETSC(STGetKSP(st, &ksp));
+    HEXFEM_PETSC(KSPSetType(ksp, KSPPREONLY));
+  }
+  configure_gamg(ksp, s);
   HEXFEM_PETSC(EPSSetFromOptions(eps));  // PETSC_OPTIONS overrides
 }
 
@@ -538,40 +561,59 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   const int num_rigid = static_cast<int>(rigid.vectors.size());
   const int nev = job.num_modes - std::min(num_rigid, job.num_modes);
   t0 = Clock::now();
-  EPS eps;
-  HEXFEM_PETSC(EPSCreate(PETSC_COMM_WORLD, &eps));
+  EPS eps = nullptr;
   struct EpsGuard {
     EPS& e;
     ~EpsGuard() { EPSDestroy(&e); }
   } guard{eps};
   if (nev > 0) {
-    HEXFEM_PETSC(EPSSetOperators(eps, mats.K, mats.M));
-    if (num_rigid > 0) HEXFEM_PETSC(EPSSetDeflationSpace(eps, num_rigid, rigid.vectors.data()));
     ConvergenceScale scale{s.floor_fraction * lambda_scale, out.total_mass / std::max(1L, n)};
-    Monitor mon{nev};
     JobParams elastic = job;
     elastic.num_modes = nev;
-    configure(eps, elastic, &scale, &mon);
-    HEXFEM_PETSC(EPSSetUp(eps));
-    out.setup_seconds = seconds_since(t0);
-    t0 = Clock::now();
-    const PetscErrorCode solved = EPSSolve(eps);
-    if (rank == 0) end_progress();
-    if (solved != 0) {  // a breakdown (e.g. an indefinite Gram matrix): say how far it got
-      std::string detail;
-      try {
-        HEXFEM_PETSC(solved);
-      } catch (const Error& e) {
-        detail = e.what();
+    std::string brief;  // how the last attempt ended, in a few words
+    // Returns an empty string on success, else why it failed (eps keeps the attempt's state).
+    const auto attempt = [&](bool krylov_schur, Monitor& mon) -> std::string {
+      EPSDestroy(&eps);
+      HEXFEM_PETSC(EPSCreate(PETSC_COMM_WORLD, &eps));
+      HEXFEM_PETSC(EPSSetOperators(eps, mats.K, mats.M));
+      if (num_rigid > 0) HEXFEM_PETSC(EPSSetDeflationSpace(eps, num_rigid, rigid.vectors.data()));
+      configure(eps, elastic, &scale, &mon, krylov_schur);
+      const auto t_setup = Clock::now();
+      HEXFEM_PETSC(EPSSetUp(eps));
+      out.setup_seconds += seconds_since(t_setup);
+      const PetscErrorCode solved = EPSSolve(eps);
+      if (rank == 0) end_progress();
+      if (solved != 0) {  // a breakdown (e.g. an indefinite Gram matrix): say how far it got
+        std::string detail;
+        try {
+          HEXFEM_PETSC(solved);
+        } catch (const Error& e) {
+          detail = e.what();
+        }
+        brief = "broke down after " + std::to_string(mon.iterations) + " iterations";
+        return failure_message(eps, elastic, mon, n, true) + " [" + detail + "]";
       }
-      throw Error(failure_message(eps, elastic, mon, n, true) + " [" + detail + "]");
+      PetscInt nconv = 0, its = 0;
+      HEXFEM_PETSC(EPSGetConverged(eps, &nconv));
+      HEXFEM_PETSC(EPSGetIterationNumber(eps, &its));
+      out.iterations += its;
+      brief = std::to_string(std::min<PetscInt>(nconv, nev)) + " of " + std::to_string(nev) +
+              " modes converged after " + std::to_string(its) + " iterations";
+      return nconv < nev ? failure_message(eps, elastic, mon, n) : std::string();
+    };
+    Monitor mon{nev};
+    std::string failed = attempt(false, mon);
+    out.algorithm = "LOBPCG";
+    if (!failed.empty() && s.krylov_schur_fallback) {
+      // LOBPCG stalls where a cluster of modes straddles its block; shift-and-invert does not.
+      Monitor ks_mon{nev};
+      const std::string lobpcg = brief;
+      const std::string ks_failed = attempt(true, ks_mon);
+      out.algorithm = "Krylov-Schur shift-invert, CG + GAMG (LOBPCG: " + lobpcg + ")";
+      failed = ks_failed.empty() ? "" : ks_failed + " (after LOBPCG: " + failed + ")";
     }
-    out.solve_seconds = seconds_since(t0);
-    PetscInt nconv = 0, its = 0;
-    HEXFEM_PETSC(EPSGetConverged(eps, &nconv));
-    HEXFEM_PETSC(EPSGetIterationNumber(eps, &its));
-    out.iterations = its;
-    if (nconv < nev) throw Error(failure_message(eps, elastic, mon, n));
+    if (!failed.empty()) throw Error(failed);
+    out.solve_seconds = seconds_since(t0) - out.setup_seconds;
   }
   const auto mode = [&](int i, Vec x) -> double {
     if (i < num_rigid) {
@@ -645,6 +687,7 @@ ModalResult solve_modal_iterative(const MixedMesh& mesh, const ModalOptions& opt
   r.effective_mass_fraction = std::move(o.effective_mass_fraction);
   EigenResult& e = r.eigen;
   e.method = "iterative";
+  e.algorithm = o.algorithm;
   e.eigenvalues = Eigen::Map<const Eigen::VectorXd>(o.eigenvalues.data(), o.eigenvalues.size());
   e.sigma = o.sigma;
   e.setup_seconds = o.setup_seconds;

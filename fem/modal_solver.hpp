@@ -40,6 +40,7 @@ struct EigenResult {
   // Common to both paths: "direct" or "iterative", the setup (factorization or AMG hierarchy),
   // the peak resident memory of the solving processes (summed over MPI ranks) and their count.
   std::string method = "direct";
+  std::string algorithm;  // iterative: "LOBPCG", or the Krylov-Schur fallback and why
   double setup_seconds = 0;
   double peak_memory_bytes = 0;
   int ranks = 1;

@@ -97,6 +97,7 @@ TEST(Iterative, NonConvergenceIsAnErrorWithTheResidual) {
   const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
   ModalOptions opt = steel(10, {"face:1"}, SolverChoice::Iterative);
   opt.iterative.max_iterations = 3;
+  opt.iterative.krylov_schur_fallback = false;  // LOBPCG's own report
   try {
     solve_modal(mesh, opt);
     FAIL() << "3 iterations cannot converge";
@@ -118,11 +119,31 @@ TEST(Iterative, AutoPicksDirectForSmallModelsAndSaysWhy) {
 
 // A tolerance below LOBPCG's round-off floor cannot be met: the run must end in a one-line error
 // that says how far it got (before, a breakdown surfaced as a bare LAPACK message).
+// A LOBPCG tolerance below its round-off floor: LOBPCG fails, Krylov-Schur (shift-invert, its
+// own tolerance) takes over and agrees with the direct path; the report says why it ran.
+TEST(Iterative, LobpcgBelowRoundOffFallsBackToKrylovSchur) {
+  const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
+  ModalOptions opt = steel(10, {"face:1"}, SolverChoice::Iterative);
+  opt.iterative.tolerance = 1e-15;
+  opt.iterative.max_iterations = 300;
+  const ModalResult r = solve_modal(mesh, opt);
+  EXPECT_NE(r.eigen.algorithm.find("Krylov-Schur"), std::string::npos) << r.eigen.algorithm;
+  EXPECT_NE(r.eigen.algorithm.find("LOBPCG: "), std::string::npos) << r.eigen.algorithm;
+  opt.solver = SolverChoice::Direct;
+  const ModalResult d = solve_modal(mesh, opt);
+  ASSERT_EQ(r.frequencies.size(), d.frequencies.size());
+  for (std::size_t i = 0; i < d.frequencies.size(); ++i)
+    EXPECT_NEAR(r.frequencies[i] / d.frequencies[i], 1.0, 1e-8) << "mode " << i + 1;
+}
+
+// Both methods held to tolerances they cannot meet: one line with the residual of each.
 TEST(Iterative, ToleranceBelowRoundOffIsAnErrorWithTheResidual) {
   const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
   ModalOptions opt = steel(10, {"face:1"}, SolverChoice::Iterative);
   opt.iterative.tolerance = 1e-15;
   opt.iterative.max_iterations = 300;
+  opt.iterative.krylov_schur_tolerance = 1e-30;
+  opt.iterative.krylov_schur_max_iterations = 1;
   try {
     solve_modal(mesh, opt);
     FAIL() << "a tolerance of 1e-15 cannot be met";
@@ -132,6 +153,7 @@ TEST(Iterative, ToleranceBelowRoundOffIsAnErrorWithTheResidual) {
                 msg.find("did not converge") != std::string::npos)
         << msg;
     EXPECT_NE(msg.find("residual reached"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("(after LOBPCG: "), std::string::npos) << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   }
 }
