@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "mesher/boundary_bulge.hpp"
 #include "mesher/mesh/conformity.hpp"
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
@@ -711,6 +712,21 @@ ConformalReport make_conformal(MixedMesh& mesh, const ConformalOptions& options)
     }
     em.compact();
     flag_nonconformal_quads(mesh);
+  }
+  if (options.target_volume > 0) {
+    const double t = options.target_volume;
+    r.gap_before_bulge = r.gap_after_bulge = (enclosed_volume(mesh) - t) / t;
+    const std::vector<BulgeSplit> splits =
+        triangulate_bulging_boundary_quads(mesh, t, options.max_gap * t);
+    if (!splits.empty()) {
+      ConformalReport scratch;  // the boundary splits' counts stay apart from the ones above
+      split_on_boundary_triangles(mesh, options, scratch);
+      r.steiner_points += scratch.steiner_points;
+      r.bulge_quads_restored = restore_unsplit_boundary_quads(mesh, splits);
+      r.bulge_quads_split = splits.size() - r.bulge_quads_restored;
+      flag_nonconformal_quads(mesh);
+      r.gap_after_bulge = (enclosed_volume(mesh) - t) / t;
+    }
   }
   r.nc_after = mesh.nc_cell.size();
   double total = 0;

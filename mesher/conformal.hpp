@@ -26,6 +26,10 @@ namespace hexfem {
 
 struct ConformalOptions {
   double min_quality = 1e-3;  // no new cell with a lower min scaled Jacobian
+  // The tet mesh's volume (0: unknown) and the relative gap to it allowed: past it, the most
+  // bulging boundary quads get two triangles (boundary_bulge.hpp).
+  double target_volume = 0;
+  double max_gap = 8e-4;
 };
 
 struct ConformalReport {
@@ -39,6 +43,9 @@ struct ConformalReport {
   std::size_t split_with_tets_behind = 0;   // of those, together with the tets behind an NC quad
   std::size_t boundary_pyramids_split = 0;  // pyramids on two boundary triangles: two tets
   std::size_t boundary_cells_split = 0;     // other cells on them, split about a node
+  std::size_t bulge_quads_split = 0;        // boundary quads given two triangles for the volume
+  std::size_t bulge_quads_restored = 0;     // of those tried, left quads (no valid split)
+  double gap_before_bulge = 0, gap_after_bulge = 0;  // enclosed volume vs target, relative
   std::size_t absorbed_slivers = 0;  // flat tets on a quad's four corners, dropped (a tiny volume)
   std::size_t failed = 0;            // NC quads left (none unless every way failed)
   double hex_volume_before = 0, hex_volume_after = 0, volume = 0;

@@ -70,7 +70,7 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
                     {"pyramids_added", r.nc_repair_pyramids},
                     {"prisms_added", r.nc_repair_prisms}};
   if (r.conformal.nc_before + r.conformal.boundary_pyramids_split +
-          r.conformal.boundary_cells_split >
+          r.conformal.boundary_cells_split + r.conformal.bulge_quads_split >
       0) {
     const ConformalReport& c = r.conformal;
     j["conformal"] = {{"nc_faces_before", c.nc_before},
@@ -84,6 +84,11 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
                       {"boundary_cells_split", c.boundary_cells_split},
                       {"new_nodes", c.steiner_points},
                       {"flat_slivers_dropped", c.absorbed_slivers},
+                      {"boundary_bulge",
+                       {{"enclosed_gap_before", c.gap_before_bulge},
+                        {"enclosed_gap_after", c.gap_after_bulge},
+                        {"quads_split", c.bulge_quads_split},
+                        {"quads_left", c.bulge_quads_restored}}},
                       {"cells_split", by_kind(c.cells_split, true)},
                       {"h_vol_before", c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0},
                       {"h_vol_after", c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0}};
@@ -146,7 +151,7 @@ std::string volume_report_text(const VolumeReport& r) {
         r.nc_undone[static_cast<int>(CellKind::Pyramid5)], r.nc_repair_pyramids,
         r.nc_repair_prisms);
   if (r.conformal.nc_before + r.conformal.boundary_pyramids_split +
-          r.conformal.boundary_cells_split >
+          r.conformal.boundary_cells_split + r.conformal.bulge_quads_split >
       0) {
     const ConformalReport& c = r.conformal;
     line(
@@ -154,7 +159,8 @@ std::string volume_report_text(const VolumeReport& r) {
         "shell, %zu of them about a node of the shell, %zu on a grown one), %zu cells split (hex "
         "%zu, prism %zu, pyramid %zu; %zu with the tets behind a quad), %zu new nodes; H_vol %.2f "
         "-> %.2f %%; %zu flat slivers on quads dropped; on boundary quads kept as two triangles: "
-        "%zu pyramids made two tets, %zu cells split",
+        "%zu pyramids made two tets, %zu cells split; enclosed volume %+.2e -> %+.2e of the "
+        "tets' (%zu bulging boundary quads given two triangles, %zu could not be)",
         c.nc_before, c.nc_after, c.pyramids, c.shell_pyramids,
         c.pyramids - c.shell_pyramids - c.grown_cavities, c.flip_pyramids, c.grown_cavities,
         c.cells_split[0] + c.cells_split[1] + c.cells_split[2] + c.cells_split[3],
@@ -163,7 +169,8 @@ std::string volume_report_text(const VolumeReport& r) {
         c.cells_split[static_cast<int>(CellKind::Pyramid5)], c.split_with_tets_behind,
         c.steiner_points, c.volume > 0 ? 100 * c.hex_volume_before / c.volume : 0,
         c.volume > 0 ? 100 * c.hex_volume_after / c.volume : 0, c.absorbed_slivers,
-        c.boundary_pyramids_split, c.boundary_cells_split);
+        c.boundary_pyramids_split, c.boundary_cells_split, c.gap_before_bulge, c.gap_after_bulge,
+        c.bulge_quads_split, c.bulge_quads_restored);
   }
   for (const auto& st : r.stages)
     line("time %-22s %8.3f s wall %8.3f s cpu", st.name.c_str(), st.seconds, st.cpu_seconds);

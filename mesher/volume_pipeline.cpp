@@ -218,7 +218,10 @@ MixedMesh finish_mesh(RecombineState& s, const SurfaceMesh& surface, const Volum
   r.lifted_cells = lift_slivers(mesh, s.topo.num_surface_nodes(), options.flat_tet_quality);
   r.stages.push_back(timer.lap("assembly + NC"));
   if (options.conformal) {
-    r.conformal = make_conformal(mesh);
+    ConformalOptions co;
+    for (std::size_t t = 0; t < s.used.size(); ++t) co.target_volume += s.topo.tet_volume(t);
+    co.max_gap = options.max_total_gap;
+    r.conformal = make_conformal(mesh, co);
     faces = sorted_cell_faces(mesh);
     r.stages.push_back(timer.lap("conformal"));
   }
