@@ -51,5 +51,26 @@ TEST(Order2Modal, OrderThreeIsAOneLineError) {
   EXPECT_EQ(out, "hexfem: error: --order must be 1 or 2 (got 3)\n");
 }
 
+// The iterative path leaves order-2 hanging nodes free (a crack): asked for, it refuses in one
+// line; auto picks the direct path at order 2 while the factor fits.
+TEST(Order2Modal, IterativeWithNcFacesIsRefusedAndAutoPicksDirect) {
+  const std::string part = std::string(HEXFEM_SOURCE_DIR) + "/models/steel_part.step";
+  int code = 0;
+  std::string out =
+      run("modal " + part + " --h 2 --fix face:8 --modes 4 --order 2 --solver iterative", &code);
+  EXPECT_EQ(code, 1);
+  EXPECT_EQ(out.rfind("hexfem: error: the iterative solver does not tie the hanging nodes", 0), 0u)
+      << out;
+  EXPECT_EQ(out.find('\n'), out.size() - 1) << out;
+  out =
+      run("modal " + part + " --h 2 --fix face:8 --modes 4 --order 2 --solver auto --json", &code);
+  ASSERT_EQ(code, 0) << out;
+  const nlohmann::json j = nlohmann::json::parse(out.substr(out.find('{')));
+  EXPECT_EQ(j["solver"]["method"], "direct");
+  EXPECT_NE(j["solver"]["reason"].get<std::string>().find("no DOF limit at order 2"),
+            std::string::npos)
+      << j["solver"]["reason"];
+}
+
 }  // namespace
 }  // namespace hexfem
