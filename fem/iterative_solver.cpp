@@ -15,6 +15,7 @@
 #include "fem/boundary.hpp"
 #include "fem/element.hpp"
 #include "fem/hex8_incompatible.hpp"
+#include "fem/nc_ties.hpp"
 #include "fem/petsc_env.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/progress.hpp"
@@ -91,8 +92,9 @@ std::uint64_t spread_bits(std::uint64_t v) {  // 21 bits -> every third bit of 6
   return v;
 }
 
-Layout make_layout(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, int rank,
-                   int size) {
+// Nodes tied to others (order-2 NC faces, fem/nc_ties.hpp) carry no equation either.
+Layout make_layout(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
+                   const NodeTies& ties, int rank, int size) {
   const long nn = static_cast<long>(mesh.nodes.size());
   const std::vector<std::uint8_t> used = element_node_mask(mesh);
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
@@ -105,7 +107,9 @@ Layout make_layout(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed
   const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300});
   std::vector<std::pair<std::uint64_t, std::int32_t>> keyed;
   for (long v = 0; v < nn; ++v) {
-    if (!used[v] || (fixed[3 * v] && fixed[3 * v + 1] && fixed[3 * v + 2])) continue;
+    if (!used[v] || ties.tied(static_cast<std::int32_t>(v)) ||
+        (fixed[3 * v] && fixed[3 * v + 1] && fixed[3 * v + 2]))
+      continue;
     std::uint64_t code = 0;
     for (int d = 0; d < 3; ++d) {
       const double t = (mesh.nodes[v][d] - lo[d]) / extent;
@@ -179,8 +183,8 @@ struct Matrices {
 
 // Block preallocation per owned node: neighbours in this rank's range (diagonal part) and
 // outside it; the *_upper counts (position >= own) are for the symmetric M.
-void preallocate(const MixedMesh& mesh, const Layout& L, Mat K, Mat M) {
-  const NodeGraph g = node_graph(mesh);
+void preallocate(const MixedMesh& mesh, const NodeTies& ties, const Layout& L, Mat K, Mat M) {
+  const NodeGraph g = node_graph(mesh, &ties);
   const long nloc = L.end - L.begin;
   std::vector<PetscInt> d(nloc, 1), o(nloc, 0), du(nloc, 1), ou(nloc, 0);
   for (long p = L.begin; p < L.end; ++p) {
@@ -209,20 +213,23 @@ Mat create_matrix(MatType type, long local_rows) {
 // Assembles K - σM (positive definite also for a free structure) and M over this rank's cells.
 // DOFs fixed on partly free nodes are decoupled, with K_ii / M_ii = λ_spurious.
 // Returns the mass of the whole mesh.
-double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, const Layout& L,
-                const JobParams& job, double sigma, double lambda_spurious, Matrices& mats) {
+double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, const NodeTies& ties,
+                const Layout& L, const JobParams& job, double sigma, double lambda_spurious,
+                Matrices& mats) {
   const int rank = mpi_rank(), size = mpi_size();
   mats.K = create_matrix(MATAIJ, L.end - L.begin);
   mats.M = create_matrix(MATSBAIJ, L.end - L.begin);
-  preallocate(mesh, L, mats.K, mats.M);
+  preallocate(mesh, ties, L, mats.K, mats.M);
   HEXFEM_PETSC(MatSetOption(mats.M, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
   const Material mat{"", job.E, job.nu, job.rho};
-  std::vector<double> Kv(kMaxDofs * kMaxDofs), mv(kMaxElementNodes * kMaxElementNodes),
-      Mv(kMaxDofs * kMaxDofs);
+  constexpr int kTiedDofs = 3 * kMaxTiedElementNodes;
+  std::vector<double> Kv(kTiedDofs * kTiedDofs), mv(kMaxTiedElementNodes * kMaxTiedElementNodes),
+      Mv(kTiedDofs * kTiedDofs), Kt(kTiedDofs * kTiedDofs),
+      mt(kMaxTiedElementNodes * kMaxTiedElementNodes), Cv(kMaxElementNodes * kMaxTiedElementNodes);
   double *Ke = Kv.data(), *me = mv.data(), *Me = Mv.data();
   Vec3 x[kMaxElementNodes];
-  std::int32_t ids[kMaxElementNodes];
-  PetscInt idx[kMaxElementNodes];
+  std::int32_t ids[kMaxTiedElementNodes], tied_ids[kMaxTiedElementNodes];
+  PetscInt idx[kMaxTiedElementNodes];
   double mass = 0, mdiag_sum = 0;
   long mdiag_count = 0, bad = 0;
   const long nc = static_cast<long>(mesh.num_cells());
@@ -230,7 +237,7 @@ double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, c
     if (cell_owner(mesh, L, c, size) != rank) continue;
     const CellKind kind = mesh.cell_kind[c];
     const ReferenceElement& ref = reference_element(kind, mesh.order);
-    const int n = ref.n, nd = 3 * n;
+    int n = ref.n, nd = 3 * n;
     mesh.element_nodes(c, ids);
     for (int i = 0; i < n; ++i)
       for (int d = 0; d < 3; ++d) x[i][d] = mesh.nodes[ids[i]][d] * job.length_scale;
@@ -241,6 +248,15 @@ double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, c
       continue;
     }
     for (int i = 0; i < n * n; ++i) mass += me[i];
+    // A tied node's DOFs become its masters': K' = Cᵀ K C, m' = Cᵀ m C on the masters.
+    if (const int k = tied_element_nodes(ties, ids, n, tied_ids, Cv.data()); k >= 0) {
+      tie_element_matrices(Cv.data(), n, k, Ke, me, Kt.data(), mt.data());
+      std::copy_n(Kt.data(), 9 * k * k, Ke);
+      std::copy_n(mt.data(), k * k, me);
+      std::copy_n(tied_ids, k, ids);
+      n = k;
+      nd = 3 * k;
+    }
     for (int i = 0; i < nd; ++i)
       for (int j = 0; j < nd; ++j) {
         const bool free = !fixed[3 * ids[i / 3] + i % 3] && !fixed[3 * ids[j / 3] + j % 3];
@@ -474,8 +490,8 @@ void rigid_modes(const MixedMesh& mesh, const Layout& L, const std::vector<std::
 // the vectors gathered on rank 0 in node order.
 // mode(i, x) writes eigenvector i into x and returns its eigenvalue μ of (K - σM, M).
 void collect(const std::function<double(int, Vec)>& mode, const Matrices& mats, const Layout& L,
-             const std::vector<std::uint8_t>& fixed, const JobParams& job, double sigma,
-             double lambda_spurious, long num_nodes, JobOutput& out) {
+             const std::vector<std::uint8_t>& fixed, const NodeTies& ties, const JobParams& job,
+             double sigma, double lambda_spurious, long num_nodes, JobOutput& out) {
   const int k = job.num_modes;
   Vec x, kx, mx, r[3], mr[3], x0;
   HEXFEM_PETSC(MatCreateVecs(mats.K, &x, &kx));
@@ -525,6 +541,7 @@ void collect(const std::function<double(int, Vec)>& mode, const Matrices& mats, 
         for (int b = 0; b < 3; ++b)
           if (!fixed[3 * L.order[p] + b]) out.modes(3 * L.order[p] + b, i) = a[3 * p + b];
       HEXFEM_PETSC(VecRestoreArrayRead(x0, &a));
+      fill_tied_nodes(ties, out.modes.col(i).data());
     }
   }
   // As the direct path: against the top of the computed spectrum (or |σ|).
@@ -541,7 +558,8 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   const IterativeSettings& s = job.settings;
   JobOutput out;
   auto t0 = Clock::now();
-  const Layout L = make_layout(mesh, fixed, rank, size);
+  const NodeTies ties = nc_face_ties(mesh, fixed);  // the same on every rank
+  const Layout L = make_layout(mesh, fixed, ties, rank, size);
   const long n = 3 * static_cast<long>(L.order.size());
   if (job.num_modes >= n)
     throw Error("requested " + std::to_string(job.num_modes) + " modes but the model has only " +
@@ -552,7 +570,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   const double lambda_spurious = s.spurious_factor * lambda_scale;
   out.sigma = sigma;
   Matrices mats;
-  out.total_mass = assemble(mesh, fixed, L, job, sigma, lambda_spurious, mats);
+  out.total_mass = assemble(mesh, fixed, ties, L, job, sigma, lambda_spurious, mats);
   attach_near_null_space(mesh, L, job.length_scale, mats.K);
   out.assemble_seconds = seconds_since(t0);
 
@@ -624,8 +642,8 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     HEXFEM_PETSC(EPSGetEigenpair(eps, i - num_rigid, &mu, nullptr, x, nullptr));
     return mu;
   };
-  collect(mode, mats, L, fixed, job, sigma, lambda_spurious, static_cast<long>(mesh.nodes.size()),
-          out);
+  collect(mode, mats, L, fixed, ties, job, sigma, lambda_spurious,
+          static_cast<long>(mesh.nodes.size()), out);
   const double peak = peak_rss_bytes();
   MPI_Allreduce(&peak, &out.peak_memory_bytes, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
   return out;
@@ -672,8 +690,10 @@ ModalResult solve_modal_iterative(const MixedMesh& mesh, const ModalOptions& opt
 
   ModalResult r;
   const std::vector<std::uint8_t> used = element_node_mask(mesh);
+  const NodeTies ties = nc_face_ties(mesh, fixed);  // tied DOFs are neither free nor fixed
   for (std::size_t i = 0; i < fixed.size(); ++i)
-    if (used[i / 3]) ++(fixed[i] ? r.num_fixed_dofs : r.num_free_dofs);
+    if (used[i / 3] && !ties.tied(static_cast<std::int32_t>(i / 3)))
+      ++(fixed[i] ? r.num_fixed_dofs : r.num_free_dofs);
   r.num_cells = static_cast<long>(mesh.num_cells());
   r.num_nodes = static_cast<long>(mesh.nodes.size());
   r.total_mass = o.total_mass;

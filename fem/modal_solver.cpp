@@ -292,12 +292,6 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
                   std::to_string(free_dofs) + " free DOFs (at most " +
                   std::to_string(free_dofs - 1) + " modes)");
     if (path == SolverChoice::Auto) path = pick_solver(free_dofs, mesh.order, reason);
-    if (path == SolverChoice::Iterative && mesh.order == 2 && !mesh.nc_cell.empty())
-      // Its assembly leaves the NC faces' mid-diagonal nodes free (fem/nc_ties.hpp): a crack.
-      throw Error("the iterative solver does not tie the hanging nodes of the " +
-                  std::to_string(mesh.nc_cell.size()) +
-                  " NC quad faces at order 2 yet; use --solver direct, or --conformal for a mesh "
-                  "without NC faces");
     if (path == SolverChoice::Iterative) {
       ModalResult r = solve_modal_iterative(mesh, options, fixed);
       r.solver_reason = reason;
