@@ -1,6 +1,5 @@
 #include "app/part_modal.hpp"
 
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,10 +48,8 @@ MeshWriteOptions mesh_write_options(const MixedMesh& mesh, const std::filesystem
   MeshWriteOptions o;
   o.binary = binary;
   if (mesh.order != 2 || mesh.nc_cell.empty()) return o;
-  std::string ext = path.extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   const NodeTies ties = nc_face_ties(mesh);
-  if (ext == ".inp") {
+  if (lower_extension(path) == "inp") {
     o.inp_ties = node_tie_list(ties);
     if (ties.refused > 0 && warnings)
       warnings->push_back(std::to_string(ties.refused) +

@@ -560,6 +560,11 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   auto t0 = Clock::now();
   const NodeTies ties = nc_face_ties(mesh, fixed);  // the same on every rank
   const Layout L = make_layout(mesh, fixed, ties, rank, size);
+  // Tied DOFs are neither free nor fixed.
+  const std::vector<std::uint8_t> used = element_node_mask(mesh);
+  for (std::size_t i = 0; i < fixed.size(); ++i)
+    if (used[i / 3] && !ties.tied(static_cast<std::int32_t>(i / 3)))
+      ++(fixed[i] ? out.num_fixed : out.num_free);
   const long n = 3 * static_cast<long>(L.order.size());
   if (job.num_modes >= n)
     throw Error("requested " + std::to_string(job.num_modes) + " modes but the model has only " +
@@ -689,11 +694,8 @@ ModalResult solve_modal_iterative(const MixedMesh& mesh, const ModalOptions& opt
   JobOutput o = solve_distributed(mesh, fixed, job);
 
   ModalResult r;
-  const std::vector<std::uint8_t> used = element_node_mask(mesh);
-  const NodeTies ties = nc_face_ties(mesh, fixed);  // tied DOFs are neither free nor fixed
-  for (std::size_t i = 0; i < fixed.size(); ++i)
-    if (used[i / 3] && !ties.tied(static_cast<std::int32_t>(i / 3)))
-      ++(fixed[i] ? r.num_fixed_dofs : r.num_free_dofs);
+  r.num_free_dofs = o.num_free;
+  r.num_fixed_dofs = o.num_fixed;
   r.num_cells = static_cast<long>(mesh.num_cells());
   r.num_nodes = static_cast<long>(mesh.nodes.size());
   r.total_mass = o.total_mass;
