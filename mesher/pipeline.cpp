@@ -16,6 +16,8 @@ namespace {
 constexpr double kVolumeErrorWarning = 0.02;
 // |mesh - CAD| / CAD volume above which the part is meshed again with a curvature bound.
 constexpr double kVolumeErrorRetry = 0.05;
+// How many times the curvature bound is doubled at most (16, 32, 64 elements per turn).
+constexpr int kCurvatureRetries = 3;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -68,11 +70,18 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   MixedMesh mesh = mesh_once(cad, options, r);
   // A size much coarser than the part's curved features cuts so much volume off with its chords
   // (the tie rod at h = diagonal / 30: -18.7 %) that the mesh is not the part. Meshed again
-  // once with a curvature bound (16 elements per turn, or twice the user's), which refines the
-  // curved faces only; the closer mesh is kept, and the user is told.
-  if (std::abs(r.volume_error) > kVolumeErrorRetry && options.surface.repair) {
+  // with a curvature bound (16 elements per turn, or twice the user's), which refines the
+  // curved faces only, doubled while the mesh stays past the bound and gets closer (Propeller
+  // at h = diagonal / 30: -18.0 %, then -11.3 % at 16, -2.9 % at 32); the closest mesh is kept,
+  // and the user is told.
+  const double first_error = r.volume_error;
+  int curvature = options.surface.curvature;
+  for (int attempt = 0; attempt < kCurvatureRetries &&
+                        std::abs(r.volume_error) > kVolumeErrorRetry && options.surface.repair;
+       ++attempt) {
     MeshOptions finer = options;
-    finer.surface.curvature = options.surface.curvature > 0 ? 2 * options.surface.curvature : 16;
+    curvature = curvature > 0 ? 2 * curvature : 16;
+    finer.surface.curvature = curvature;
     MeshReport again;
     again.file_unit = r.file_unit;
     again.cad_volume = r.cad_volume;
@@ -81,18 +90,17 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
     try {
       retry = mesh_once(cad, finer, again);
     } catch (const Error&) {
-      again.volume_error = r.volume_error;  // the finer sizes exceed a budget: keep the first
+      break;  // the finer sizes exceed a budget or fail: keep the closest mesh so far
     }
-    if (std::abs(again.volume_error) < std::abs(r.volume_error)) {
-      char buf[300];
-      std::snprintf(buf, sizeof buf,
-                    "at h = %g the mesh was %+.1f %% off the CAD volume; meshed again with a "
-                    "curvature bound of %d elements per turn",
-                    h, 100 * r.volume_error, finer.surface.curvature);
-      r = std::move(again);
-      r.warnings.push_back(buf);
-      mesh = std::move(retry);
-    }
+    if (!(std::abs(again.volume_error) < std::abs(r.volume_error))) break;
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "at h = %g the mesh was %+.1f %% off the CAD volume; meshed again with a "
+                  "curvature bound of %d elements per turn",
+                  h, 100 * first_error, curvature);
+    r = std::move(again);  // its own warnings: the earlier attempts' meshes are gone
+    r.warnings.push_back(buf);
+    mesh = std::move(retry);
   }
   // Chords across thin or strongly curved features cut volume off at a coarse h: legitimate,
   // but a user expecting the part's mass must hear of it.

@@ -35,9 +35,29 @@ double orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
          u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
+// The solid ids a CAD face bounds (one, or two for a face shared by touching solids).
+std::vector<int> solids_of_face(const SurfaceMesh& surface, int face) {
+  std::vector<int> ids;
+  for (std::size_t s = 1; s < surface.faces_of_solid.size(); ++s)
+    for (int f : surface.faces_of_solid[s])
+      if (f == face) ids.push_back(static_cast<int>(s));
+  return ids;
+}
+
 std::string intersection_message(const SurfaceMesh& surface, const SolidLocator& locator) {
   const auto pairs = locator.intersecting_triangles(3);
   if (pairs.empty()) return "";
+  // Faces of two different solids that cross: the CAD's bodies overlap (an assembly's bolt in
+  // its nut), which one conforming mesh cannot represent. Say so, not that the mesher failed.
+  for (const auto& p : pairs) {
+    const int fa = surface.mesh.bface_cad_face[p[0]], fb = surface.mesh.bface_cad_face[p[1]];
+    const std::vector<int> sa = solids_of_face(surface, fa), sb = solids_of_face(surface, fb);
+    if (sa.size() != 1 || sb.size() != 1 || sa[0] == sb[0]) continue;
+    return "solids " + std::to_string(std::min(sa[0], sb[0])) + " and " +
+           std::to_string(std::max(sa[0], sb[0])) +
+           " of the CAD model touch or overlap (their faces " + std::to_string(fa) + " and " +
+           std::to_string(fb) + " cross); fuse them or mesh each solid on its own";
+  }
   std::string msg = "the surface mesh intersects itself: ";
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     if (i) msg += "; ";
@@ -208,6 +228,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
   const ChildReaper reaper{out.child};
   if (!out.error.empty()) {
     const std::string why = intersection_message(surface, locator);
+    if (why.starts_with("solids ")) throw Error(why);  // a fault of the CAD, not of TetGen
     throw Error("TetGen failed (" + out.error + ")" +
                 (why.empty() ? std::string(" on the surface mesh") : ": " + why));
   }

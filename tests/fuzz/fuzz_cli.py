@@ -86,13 +86,19 @@ def limit_memory(mb):
     return apply
 
 
-def run(cmd, timeout, memory_mb, sanitized, cwd):
+def run_env(memory_mb):
     env = dict(os.environ, OMP_NUM_THREADS="1")
     # ASan reserves terabytes of address space, so RLIMIT_AS cannot bound it: it enforces
     # the limit itself (hard_rss_limit_mb) and reports like any other sanitizer error.
+    # Leak checks are off: OpenCASCADE keeps allocations alive until exit by design.
     env["ASAN_OPTIONS"] = (f"hard_rss_limit_mb={memory_mb}:exitcode=86:detect_leaks=0:"
                            "abort_on_error=0:allocator_may_return_null=1")
     env["UBSAN_OPTIONS"] = "halt_on_error=1:exitcode=87:print_stacktrace=1"
+    return env
+
+
+def run(cmd, timeout, memory_mb, sanitized, cwd):
+    env = run_env(memory_mb)
     t0 = time.monotonic()
     try:
         p = subprocess.run(cmd, capture_output=True, timeout=timeout, env=env, cwd=cwd,
@@ -137,7 +143,7 @@ def main():
         shutil.rmtree(work, ignore_errors=True)
 
 
-def make_seeds(hexfem, work):
+def make_seeds(hexfem, work, memory_mb):
     """STEP seeds from tests/data; MSH seeds meshed from them (4.1 ASCII and binary, 2.2)."""
     seeds = []
     for name in STEP_SEEDS:
@@ -148,7 +154,7 @@ def make_seeds(hexfem, work):
             out = os.path.join(work, f"seed_{name}_{int(binary)}.msh")
             cmd = [hexfem, "mesh", os.path.join(DATA, name), "--h", str(STEP_H[name]), "-o", out]
             subprocess.run(cmd + (["--binary"] if binary else []), check=True,
-                           capture_output=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+                           capture_output=True, env=run_env(memory_mb))
             with open(out, "rb") as f:
                 seeds.append((os.path.basename(out), "msh", f.read()))
     seeds.append(("seed_22.msh", "msh", MSH22))
@@ -190,7 +196,7 @@ def commands(kind, name, path, i, work):
 
 def fuzz(a, hexfem, work):
     rng = random.Random(a.seed)
-    seeds = make_seeds(hexfem, work)
+    seeds = make_seeds(hexfem, work, a.memory_mb)
     jobs = []
     for i in range(a.count):
         name, kind, data = seeds[i % len(seeds)]
