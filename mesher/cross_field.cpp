@@ -176,7 +176,23 @@ void triangulate_background(CDT& cdt, int f, const FaceBoundary& b, Vec2 scale, 
   mark_nesting_levels(cdt);
   for (auto fh = cdt.all_faces_begin(); fh != cdt.all_faces_end(); ++fh)
     fh->set_in_domain(!cdt.is_infinite(fh) && fh->info() % 2 == 1);
-  CGAL::refine_Delaunay_mesh_2(cdt, Criteria(0.125, bg_size), true);
+  // Refined a point at a time under a cap: on a malformed boundary (pcurves that cross or
+  // nearly touch at a tiny angle) CGAL's refinement never ends. A sound face needs about its
+  // area over bg_size^2 points plus a graded layer along its boundary; the cap is far above.
+  double area = 0;
+  for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh)
+    if (fh->is_in_domain()) area += std::abs(cdt.triangle(fh).area());
+  const double cap = 100.0 * (area / (bg_size * bg_size) + static_cast<double>(b.uv.size())) + 1e5;
+  CGAL::Delaunay_mesher_2<CDT, Criteria> mesher(cdt, Criteria(0.125, bg_size));
+  mesher.init(true);
+  while (!mesher.is_refinement_done()) {
+    mesher.step_by_step_refine_mesh();
+    if (static_cast<double>(cdt.number_of_vertices()) > cap)
+      throw Error("face " + std::to_string(f) +
+                  ": its parameter plane could not be triangulated (the refinement passed " +
+                  std::to_string(static_cast<long long>(cap)) +
+                  " points); its boundary curves may not lie on the surface");
+  }
 }
 
 // The background vertices (uv, triangles) and their unknowns: copies of one boundary node (the

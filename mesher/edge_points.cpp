@@ -467,10 +467,17 @@ std::vector<double> graded_sizes(const std::vector<Vec3>& x, const std::vector<d
     return target[static_cast<std::size_t>(a)] < target[static_cast<std::size_t>(b)];
   });
   std::vector<double> graded = target;
+  // No size grows past the largest target, so the cones reach no farther than that.
+  double top = 0;
+  for (int j : order) top = std::max(top, target[static_cast<std::size_t>(j)]);
   std::vector<std::pair<bg3::Point, int>> near;
   for (int j : order) {
     const double sj = graded[static_cast<std::size_t>(j)];
-    const double r = (hmax - sj) / rate;
+    // A point already lowered by a smaller one spreads nothing that one did not (triangle
+    // inequality); skipping it keeps dense edges of equal sizes from costing n^2.
+    if (sj < target[static_cast<std::size_t>(j)]) continue;
+    const double r = (std::min(hmax, top) - sj) / rate;
+    if (r <= 0) continue;
     const Vec3& c = x[static_cast<std::size_t>(j)];
     near.clear();
     tree.query(bgi::intersects(bg3::Box(bg3::Point(c[0] - r, c[1] - r, c[2] - r),
@@ -663,8 +670,10 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
   const double narrow_floor = 0.3 * size.floor();
   const std::vector<SharpCorner> sharp = sharp_corners(cad, size, size.floor(), narrow_floor);
   bounds.zone = corner_zones(cad, sharp);
+  std::size_t first_count = 0;
   for (int round = 0;; ++round) {
     build_points(cad, size, bounds, density, p);
+    if (round == 0) first_count = p.xyz.size();
     std::vector<bool> refine(density.size(), false);
     int bad_face = 0;
     std::string where;
@@ -743,7 +752,10 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
       return p;
     }
     if (bad_face == 0) continue;
-    if (round == kRounds)
+    // A boundary still crossing after its points grew 16-fold is malformed (pcurves off their
+    // surface, a curve off its face), not under-resolved: stop before the doubling runs away.
+    const bool runaway = p.xyz.size() > std::max<std::size_t>(16 * first_count, 50000);
+    if (round == kRounds || runaway)
       throw Error("face " + std::to_string(bad_face) +
                   ": its boundary crosses itself in the parameter plane" + where);
     for (std::size_t e = 0; e < density.size(); ++e)

@@ -159,5 +159,32 @@ TEST(Cli, CorruptStepEntityIsOneLine) {
                "(DIRECTION) is corrupt");
 }
 
+// Found by the fuzz run (seed 14): a cylinder whose axis point was moved so that its edges no
+// longer lie on it. One variant made CGAL's refinement of the face's parameter plane run for
+// ever (inputs 233, 1369: out of memory after minutes), one made the crossing repair double
+// its edge points to 139k and take 30 s. Both now stop in one line: the refinement under a cap,
+// the repair once the points grew 16-fold. (Before, the first ran into the test's timeout.)
+TEST(Cli, StepCurvesOffTheirSurfaceStopInOneLine) {
+  std::ifstream in(std::string(HEXFEM_TEST_DATA) + "/cylinder.stp", std::ios::binary);
+  const std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string axis = "#47 = CARTESIAN_POINT('',(-67.75000207678,";
+  const std::string circle = "#41 = CARTESIAN_POINT('',(-67.75000207678,";
+  ASSERT_NE(step.find(axis), std::string::npos);
+  ASSERT_NE(step.find(circle), std::string::npos);
+  std::string moved_axis = step, moved_circle = step;
+  moved_axis.replace(moved_axis.find(axis), axis.size(), "#47 = CARTESIAN_POINT('',(0,");
+  moved_circle.replace(moved_circle.find(circle), circle.size(), "#41 = CARTESIAN_POINT('',(-1,");
+  testing::write_file(work_path("cli_axis.stp"), moved_axis);
+  testing::write_file(work_path("cli_circle.stp"), moved_circle);
+  expect_error("mesh " + work_path("cli_circle.stp").string() + " --h 3 --dim 2 -o " +
+                   work_path("cli_circle.msh").string(),
+               "could not be triangulated");
+  expect_error("mesh " + work_path("cli_axis.stp").string() + " --h 3 --dim 2 -o " +
+                   work_path("cli_axis.msh").string(),
+               "crosses itself");
+  EXPECT_FALSE(std::filesystem::exists(work_path("cli_circle.msh")));
+  EXPECT_FALSE(std::filesystem::exists(work_path("cli_axis.msh")));
+}
+
 }  // namespace
 }  // namespace hexfem
