@@ -71,6 +71,8 @@ double capped_size(const SizeField& size, const Bounds& b, int e, double t, doub
   return std::min(size.edge_size(e, t, s), cap_at(b.caps, e, t));
 }
 
+constexpr double kMaxEdgePoints = 1e6;
+
 // Parameters of the points on edge e: equal steps of the integral of 1/size over arc length,
 // `density` times as many as the size field asks for.
 std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size,
@@ -115,6 +117,17 @@ std::vector<double> edge_parameters(const CadModel& cad, const SizeField& size,
   std::vector<double> integral(samples + 1, 0.0);
   for (int i = 1; i <= samples; ++i)
     integral[i] = integral[i - 1] + 0.5 * (dens[i] + dens[i - 1]) * (arc[i] - arc[i - 1]);
+  // No sound request puts a million points on one edge (a surface of about 1e12): a vertex
+  // thrown far away by a corrupt file does, and would exhaust the memory point by point.
+  const double wanted = integral[samples] * density;
+  if (!(wanted <= kMaxEdgePoints)) {
+    char msg[240];
+    std::snprintf(msg, sizeof msg,
+                  "edge %d (%.4g mm long) would take about %.3g points at the sizes asked (limit "
+                  "%.0e); the CAD geometry or the size is off",
+                  e, length, wanted, kMaxEdgePoints);
+    throw Error(msg);
+  }
   const bool closed = cad.edge_closed(e);
   // A curved edge gets two segments at least (one chord would be shared by both its faces as
   // a fold), unless it is short against the size (a tenth): its sagitta is then nothing, and

@@ -18,6 +18,8 @@ constexpr double kVolumeErrorWarning = 0.02;
 constexpr double kVolumeErrorRetry = 0.05;
 // How many times the curvature bound is doubled at most (16, 32, 64 elements per turn).
 constexpr int kCurvatureRetries = 3;
+// A failure at h above the bounding-box diagonal over this is put down to the size.
+constexpr double kLargeSizeDivisor = 8;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -67,7 +69,25 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   r.file_unit = cad.file_unit();
   r.cad_volume = cad.volume();
 
-  MixedMesh mesh = mesh_once(cad, options, r);
+  MixedMesh mesh;
+  try {
+    mesh = mesh_once(cad, options, r);
+  } catch (const CadError&) {
+    throw;
+  } catch (const Error& e) {
+    // At a size near the part's own (faces narrower than h, chords across whole holes) the
+    // stages fail in their own terms (crossing boundaries, a self-intersecting surface); the
+    // user must hear that the size is the cause.
+    const BBox3 b = cad.bbox();
+    const double diag = std::hypot(b.max[0] - b.min[0], b.max[1] - b.min[1], b.max[2] - b.min[2]);
+    if (!(h > diag / kLargeSizeDivisor)) throw;
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  " (--h %g is too large for this part, whose bounding-box diagonal is %.4g mm: "
+                  "use a smaller --h)",
+                  h, diag);
+    throw Error(e.what() + std::string(buf));
+  }
   // A size much coarser than the part's curved features cuts so much volume off with its chords
   // (the tie rod at h = diagonal / 30: -18.7 %) that the mesh is not the part. Meshed again
   // with a curvature bound (16 elements per turn, or twice the user's), which refines the

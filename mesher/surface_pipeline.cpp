@@ -28,14 +28,20 @@ using v3::cross;
 // Runs body(i) for i in [0, n) on all threads; the first exception is rethrown afterwards.
 template <class Body>
 void parallel_for(int n, Body body) {
+  // The error of the lowest failing index is the one reported, whatever the threads' timing:
+  // same input, same message.
   std::exception_ptr error;
+  int error_index = n;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int i = 0; i < n; ++i) {
     try {
       body(i);
     } catch (...) {
 #pragma omp critical(hexfem_surface_error)
-      if (!error) error = std::current_exception();
+      if (i < error_index) {
+        error = std::current_exception();
+        error_index = i;
+      }
     }
   }
   if (error) std::rethrow_exception(error);
@@ -149,8 +155,8 @@ void require_manifold_solids(const CadModel& cad) {
       if (fs.size() <= 2) continue;
       std::string list;
       for (int f : fs) list += (list.empty() ? "" : ", ") + std::to_string(f);
-      throw Error("solid " + std::to_string(s) + " is not manifold: edge " + std::to_string(e) +
-                  " bounds " + std::to_string(fs.size()) + " face sides (faces " + list + ")");
+      throw CadError("solid " + std::to_string(s) + " is not manifold: edge " + std::to_string(e) +
+                     " bounds " + std::to_string(fs.size()) + " face sides (faces " + list + ")");
     }
   }
 }

@@ -228,7 +228,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
   const ChildReaper reaper{out.child};
   if (!out.error.empty()) {
     const std::string why = intersection_message(surface, locator);
-    if (why.starts_with("solids ")) throw Error(why);  // a fault of the CAD, not of TetGen
+    if (why.starts_with("solids ")) throw CadError(why);  // a fault of the CAD, not of TetGen
     throw Error("TetGen failed (" + out.error + ")" +
                 (why.empty() ? std::string(" on the surface mesh") : ": " + why));
   }

@@ -21,7 +21,7 @@ from volume_table import bbox_diagonal, mesh  # noqa: E402
 
 # Messages that name a defect of the CAD model itself, not of the mesher.
 CAD_REASONS = re.compile(r"not manifold|do not close|open shell|free edges|overlap|no solid|"
-                         r"not closed|self-intersect", re.I)
+                         r"not closed", re.I)
 
 
 def classify(r):

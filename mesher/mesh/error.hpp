@@ -11,4 +11,10 @@ struct Error : std::runtime_error {
   explicit Error(const std::string& message) : std::runtime_error(message) {}
 };
 
+// A defect of the CAD model itself (a non-manifold edge, solids that overlap): no mesh size
+// and no other option of ours can help, and the message must not suggest one.
+struct CadError : Error {
+  using Error::Error;
+};
+
 }  // namespace hexfem

@@ -186,5 +186,22 @@ TEST(Cli, StepCurvesOffTheirSurfaceStopInOneLine) {
   EXPECT_FALSE(std::filesystem::exists(work_path("cli_axis.msh")));
 }
 
+// Found by the fuzz run (seed 14, input 1840): box.stp with a vertex at x = 2^31 mm. Its edges
+// asked for 8.6e9 points at h = 0.25, allocated one by one (18.8 GB after 60 s); now refused
+// by name before any allocation.
+TEST(Cli, AVertexThrownFarAwayIsRefusedByItsEdge) {
+  std::ifstream in(std::string(HEXFEM_TEST_DATA) + "/box.stp", std::ios::binary);
+  std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string vertex = "#25 = CARTESIAN_POINT('',(0.E+000,0.E+000,1.));";
+  ASSERT_NE(step.find(vertex), std::string::npos);
+  step.replace(step.find(vertex), vertex.size(),
+               "#25 = CARTESIAN_POINT('',(2147483648,0.E+000,1.));");
+  testing::write_file(work_path("cli_far.stp"), step);
+  expect_error("mesh " + work_path("cli_far.stp").string() + " --h 0.25 --dim 2 -o " +
+                   work_path("cli_far.msh").string(),
+               "would take about 8.59e+09 points");
+  EXPECT_FALSE(std::filesystem::exists(work_path("cli_far.msh")));
+}
+
 }  // namespace
 }  // namespace hexfem
