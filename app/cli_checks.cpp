@@ -62,6 +62,19 @@ void check_output_file(const std::string& option, const std::string& path,
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw Error(option + " '" + path + "' is a directory");
   check_folder(option, path);
+  // A .vtu of a mesh with NC faces comes with <stem>_nc.vtu beside it: that one too must be
+  // writable and no input, or the main file would be written and the companion fail after it.
+  if (ext == "vtu") {
+    fs::path nc = path;
+    nc.replace_filename(nc.stem().string() + "_nc.vtu");
+    for (const std::string& in : inputs)
+      if (same_file(nc.string(), in))
+        throw Error(option + " '" + path + "': its NC-face companion '" + nc.string() +
+                    "' is an input of this command; choose another name");
+    if (fs::is_directory(nc, ec))
+      throw Error(option + " '" + path + "': its NC-face companion '" + nc.string() +
+                  "' is a directory");
+  }
 }
 
 void check_output_folder(const std::string& option, const std::string& stem) {

@@ -159,9 +159,11 @@ RegisterCommand reg{
                       "element order: 1 (default) or 2 (mid-edge nodes on the CAD geometry)");
        sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)");
        sub.add_flag("--json", a->json, "print the report as JSON on stdout");
-       sub.add_flag("--force", a->force,
-                    "allow more than 50 M surface points, and a mesh whose volume is more than "
-                    "10 % off the CAD volume");
+       sub.add_flag(
+           "--force", a->force,
+           "allow more than 1 M surface points or 20 M interior points (estimated before the "
+           "work), and a mesh whose volume is more than "
+           "10 % off the CAD volume");
        sub.add_option("--curvature", a->curvature,
                       "curvature bound: N elements per 2*pi (0 = off)");
        sub.add_option("--size-at", a->size_at, "size at a CAD vertex: vertex:ID=h");

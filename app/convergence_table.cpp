@@ -1,7 +1,14 @@
 #include "app/convergence_table.hpp"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -14,6 +21,59 @@ namespace hexfem {
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Runs `program` (found on PATH) with `input` on its stdin and returns its stdout; empty when
+// it cannot be started or fails. stderr goes nowhere. The input is written whole before the
+// output is read: it must fit a pipe's buffer (64 KiB), as a plot script does.
+std::string run_filter(const char* program, const std::string& input) {
+  if (input.size() > 60000) return {};
+  int in[2], out[2];
+  if (::pipe2(in, O_CLOEXEC) != 0) return {};
+  if (::pipe2(out, O_CLOEXEC) != 0) {
+    ::close(in[0]);
+    ::close(in[1]);
+    return {};
+  }
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, in[0], 0);
+  posix_spawn_file_actions_adddup2(&actions, out[1], 1);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  char* argv[] = {const_cast<char*>(program), nullptr};
+  pid_t pid = -1;
+  const int spawned = ::posix_spawnp(&pid, program, &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(in[0]);
+  ::close(out[1]);
+  std::string result;
+  // A filter that exits before reading all of its input must not kill us with SIGPIPE.
+  const auto old_pipe = std::signal(SIGPIPE, SIG_IGN);
+  if (spawned == 0) {
+    for (std::size_t done = 0; done < input.size();) {
+      const ssize_t n = ::write(in[1], input.data() + done, input.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      done += static_cast<std::size_t>(n);
+    }
+  }
+  ::close(in[1]);
+  std::signal(SIGPIPE, old_pipe);
+  if (spawned == 0) {
+    char buf[1 << 16];
+    for (;;) {
+      const ssize_t n = ::read(out[0], buf, sizeof buf);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      result.append(buf, static_cast<std::size_t>(n));
+    }
+  }
+  ::close(out[0]);
+  int status = 0;
+  if (spawned != 0 || ::waitpid(pid, &status, 0) != pid || !WIFEXITED(status) ||
+      WEXITSTATUS(status) != 0)
+    return {};
+  return result;
+}
 
 std::string fmt(const char* f, double v) {
   if (std::isnan(v)) return "-";
@@ -192,38 +252,32 @@ std::vector<std::filesystem::path> write_convergence_files(const ConvergenceStud
   if (s.reference.empty() || s.rows.size() < 2) return written;
 
   // Plot |error| vs h, log-log, one line per frequency, with gnuplot (Debian's gnuplot-nox).
-  const std::filesystem::path data = stem.string() + ".plot.dat";
+  // The data go in the script (a datablock) and the PNG comes back on gnuplot's stdout: no
+  // file of gnuplot's own, so nothing is left behind under a guessable name on a signal.
   const std::filesystem::path png = stem.string() + ".png";
   const int nf = std::min(s.num_frequencies(), 4);
-  std::string dat;
+  std::string script = "$errors << EOD\n";
   for (std::size_t r = 0; r < s.rows.size(); ++r) {
-    dat += fmt("%.17g", s.rows[r].h);
-    for (int i = 0; i < nf; ++i) dat += fmt(" %.6e", std::abs(s.error(r, i)));
-    dat += "\n";
+    script += fmt("%.17g", s.rows[r].h);
+    for (int i = 0; i < nf; ++i) script += fmt(" %.6e", std::abs(s.error(r, i)));
+    script += "\n";
   }
-  write_atomically(data, false, [&](std::ostream& o) { o << dat; });
-  std::string script = "set terminal pngcairo noenhanced size 800,600\nset output '" +
-                       png.string() +
-                       ".tmp'\n"
-                       "set logscale xy\nset xlabel 'h'\nset ylabel '|f - f_ref| / f_ref'\n"
-                       "set grid\nset key left top\nset title 'hexfem converge: " +
-                       s.part + "'\nplot ";
+  script +=
+      "EOD\nset terminal pngcairo noenhanced size 800,600\n"
+      "set logscale xy\nset xlabel 'h'\nset ylabel '|f - f_ref| / f_ref'\n"
+      "set grid\nset key left top\nset title 'hexfem converge: " +
+      s.part + "'\nplot ";
   for (int i = 0; i < nf; ++i)
-    script += std::string(i ? ", " : "") + "'" + data.string() +
-              "' using 1:" + std::to_string(i + 2) + " with linespoints title 'f" +
-              std::to_string(i + 1) + "'";
+    script += std::string(i ? ", " : "") + "$errors using 1:" + std::to_string(i + 2) +
+              " with linespoints title 'f" + std::to_string(i + 1) + "'";
   script += "\n";
-  const std::filesystem::path gp = stem.string() + ".plot.gp";
-  write_atomically(gp, false, [&](std::ostream& o) { o << script; });
-  const int rc = std::system(("gnuplot '" + gp.string() + "' 2>/dev/null").c_str());
-  if (rc == 0 && std::filesystem::exists(png.string() + ".tmp")) {
-    std::filesystem::rename(png.string() + ".tmp", png);
+  const std::string image = run_filter("gnuplot", script);
+  if (image.rfind("\x89PNG", 0) == 0) {
+    write_atomically(png, true, [&](std::ostream& o) { o << image; });
     written.push_back(png);
   } else {
     std::fprintf(stderr, "hexfem: note: gnuplot failed or is absent; no plot written\n");
   }
-  std::filesystem::remove(gp);
-  std::filesystem::remove(data);
   return written;
 }
 

@@ -8,6 +8,7 @@
 #include "app/command_registry.hpp"
 #include "fem/iterative_solver.hpp"
 #include "mesher/mesh/error.hpp"
+#include "mesher/mesh/progress.hpp"
 
 namespace hexfem {
 std::vector<CommandSpec>& command_registry() {
@@ -18,6 +19,7 @@ std::vector<CommandSpec>& command_registry() {
 namespace {
 // One line on stderr whatever the message holds (CLI11 and library messages may span lines).
 void print_error(std::string message, const char* suffix = "") {
+  end_progress();  // on a terminal, the error takes the progress line's place
   std::replace(message.begin(), message.end(), '\n', ' ');
   while (!message.empty() && message.back() == ' ') message.pop_back();
   std::fprintf(stderr, "hexfem: error: %s%s\n", message.c_str(), suffix);

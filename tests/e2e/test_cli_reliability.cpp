@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "cad/cad_test_util.hpp"
 
@@ -158,6 +159,39 @@ TEST(Reliability, ABadReferenceIsOneLine) {
   expect_error(run + write("b.json", "{\"reference_hz\": 5}"), "has no \"reference_hz\" array");
   expect_error(run + write("c.json", "{\"reference_hz\": [1,"), "is not valid JSON");
   expect_error(run + (dir / "none.json").string(), "cannot read reference");
+}
+
+// converge writes its table, Markdown and plot and nothing else: gnuplot takes its data in the
+// script and gives the PNG on its stdout (before, <stem>.plot.gp, .plot.dat and .png.tmp were
+// files under fixed names, left behind by a signal).
+TEST(Reliability, ConvergeWritesItsOutputsAndNothingElse) {
+  const fs::path dir = fresh_dir("rel_converge");
+  std::ofstream(dir / "ref.json") << "{\"reference_hz\": [2000, 3000, 4000, 5000]}";
+  std::string out;
+  ASSERT_EQ(
+      run_cli("converge " + data("box.stp") + " --h 0.5,0.3 --fix face:1 --modes 4 " +
+                  "--reference " + (dir / "ref.json").string() + " -o " + (dir / "c").string(),
+              &out),
+      0)
+      << out;
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"c.csv", "c.md", "c.png", "ref.json"}));
+  std::ifstream png(dir / "c.png", std::ios::binary);
+  std::string magic(4, '\0');
+  png.read(magic.data(), 4);
+  EXPECT_EQ(magic, "\x89PNG");
+}
+
+// Item 9k: a .vtu output of a mesh with NC faces has a companion <stem>_nc.vtu; it is checked
+// with the main output before the work, so the main file is never written alone.
+TEST(Reliability, TheNcCompanionOfAVtuIsCheckedBeforeTheWork) {
+  const fs::path dir = fresh_dir("rel_nc_companion");
+  fs::create_directories(dir / "x_nc.vtu");
+  expect_error("mesh " + data("cylinder.stp") + " --h 3 -o " + (dir / "x.vtu").string(),
+               "its NC-face companion");
+  EXPECT_FALSE(fs::exists(dir / "x.vtu"));
 }
 
 }  // namespace
