@@ -719,6 +719,15 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
         where = msg;
       }
     }
+    // A boundary still crossing after its points grew 16-fold is malformed (pcurves off their
+    // surface, a curve off its face), not under-resolved: stop before the doubling runs away
+    // (and before graded_sizes, which costs up to n^2 on such edges: 50k points took 6 s).
+    const bool runaway = p.xyz.size() > std::max<std::size_t>(16 * first_count, 20000);
+    auto crossing_error = [&] {
+      return Error("face " + std::to_string(bad_face) +
+                   ": its boundary crosses itself in the parameter plane" + where);
+    };
+    if (bad_face != 0 && runaway) throw crossing_error();
     // Narrow faces get points no farther apart than they are wide, and every size grows by
     // at most half the distance from a smaller one; the next round's edges follow these.
     // The corner zones follow only the sizes of the field and the widths of strips (`other`,
@@ -765,12 +774,7 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
       return p;
     }
     if (bad_face == 0) continue;
-    // A boundary still crossing after its points grew 16-fold is malformed (pcurves off their
-    // surface, a curve off its face), not under-resolved: stop before the doubling runs away.
-    const bool runaway = p.xyz.size() > std::max<std::size_t>(16 * first_count, 50000);
-    if (round == kRounds || runaway)
-      throw Error("face " + std::to_string(bad_face) +
-                  ": its boundary crosses itself in the parameter plane" + where);
+    if (round == kRounds) throw crossing_error();
     for (std::size_t e = 0; e < density.size(); ++e)
       if (refine[e]) density[e] *= 2;
   }
