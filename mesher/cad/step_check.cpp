@@ -1,12 +1,15 @@
 // Entity numbers of a STEP file (ISO 10303-21, clause 6) checked on the text: OpenCASCADE's
-// reader crashes on an entity number past 2^31 - 1, and its translator on a reference to an
-// entity the file does not define (both found by the fuzz run, issue 14).
+// reader crashes on an entity number past 2^31 - 1, its translator on a reference to an entity
+// the file does not define, and its shape healing on a coordinate near 1e20 (all found by the
+// fuzz run, issue 14).
 #include "mesher/cad/step_check.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <climits>
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -14,6 +17,10 @@
 namespace hexfem {
 
 namespace {
+
+// No coordinate, radius or parameter of a real part comes near this; OpenCASCADE's shape
+// healing crashes on a point at 1e20 (fuzz run, seed 14, input 8633).
+constexpr double kMaxNumber = 1e10;
 
 bool word_char(char c) {
   return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.';
@@ -50,6 +57,22 @@ std::string step_entity_problem(std::string_view text) {
     }
     if (std::isspace(static_cast<unsigned char>(c)) != 0) continue;
     if (c != '#') {
+      const bool starts_number = std::isdigit(static_cast<unsigned char>(c)) != 0 ||
+                                 ((c == '-' || c == '+') && i + 1 < n &&
+                                  std::isdigit(static_cast<unsigned char>(text[i + 1])) != 0);
+      if (starts_number && !word_char(text[i - 1])) {
+        std::size_t k = i + 1;
+        while (k < n && k < i + 64 &&
+               (std::isdigit(static_cast<unsigned char>(text[k])) != 0 || text[k] == '.' ||
+                text[k] == 'E' || text[k] == 'e' || text[k] == '+' || text[k] == '-'))
+          ++k;
+        const std::string token(text.substr(i, k - i));
+        const double v = std::strtod(token.c_str(), nullptr);
+        if (!(std::abs(v) <= kMaxNumber))
+          return "entity #" + std::to_string(current) + " holds the number " + token +
+                 ", past any part's size (limit 1e10 in the file's units)";
+        i = k - 1;
+      }
       statement_start = false;
       continue;
     }

@@ -9,8 +9,8 @@ namespace hexfem {
 // What is wrong with the entity numbers of the DATA section of a STEP file's text, or "" when
 // nothing is: a number past 2^31 - 1 (OpenCASCADE's reader overflows it and crashes), a number
 // run into letters or a point ("#1e999"), a '#' without a number, or a reference to an entity
-// that is not defined (the translator dereferences the missing entity and crashes). Strings
-// and comments are skipped. Text without a DATA section gives "" (left to the reader).
+// that is not defined (the translator dereferences the missing entity and crashes), or a number
+// past 1e10 (shape healing crashes on such coordinates). Strings and comments are skipped. Text without a DATA section gives "" (left to the reader).
 std::string step_entity_problem(std::string_view text);
 
 }  // namespace hexfem

@@ -200,6 +200,16 @@ TEST(StepEntityCheck, NumbersAndReferences) {
   EXPECT_EQ(step_entity_problem(head + "#1=A(#2.5);\n#2=B();\n"), "malformed entity number '#2.5'");
   EXPECT_EQ(step_entity_problem(head + "#1=A(#-1);\n"), "'#' without an entity number");
   EXPECT_EQ(step_entity_problem(head + "#2147483647=A(#1);\n#1=B();\n"), "");
+  // Numbers: a coordinate near 1e20 crashed OpenCASCADE's shape healing (fuzz, seed 14).
+  EXPECT_EQ(step_entity_problem(head + "#1=AXIS2_PLACEMENT_3D('',#2,$,$);\n"
+                                       "#2=CARTESIAN_POINT('',(-99999.5,2.,3.E+3));\n"),
+            "");
+  EXPECT_EQ(step_entity_problem(head + "#7=CARTESIAN_POINT('',(0.,1.E+20,-5.));\n"),
+            "entity #7 holds the number 1.E+20, past any part's size (limit 1e10 in the file's "
+            "units)");
+  EXPECT_EQ(step_entity_problem(head + "#7=CARTESIAN_POINT('',(0.,-99999999999999999999,5.));\n"),
+            "entity #7 holds the number -99999999999999999999, past any part's size (limit 1e10 "
+            "in the file's units)");
 }
 
 }  // namespace

@@ -203,5 +203,22 @@ TEST(Cli, AVertexThrownFarAwayIsRefusedByItsEdge) {
   EXPECT_FALSE(std::filesystem::exists(work_path("cli_far.msh")));
 }
 
+// Found by the fuzz run (seed 14, input 8633): a point of cylinder.stp at y = 1e20 crashed
+// OpenCASCADE's shape healing inside the STEP reader (exit 139, info and mesh alike).
+TEST(Cli, AHugeCoordinateIsOneLineNotACrash) {
+  std::ifstream in(std::string(HEXFEM_TEST_DATA) + "/cylinder.stp", std::ios::binary);
+  std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string point = "#32 = CARTESIAN_POINT('',(-67.11767521109,177.49999964728,";
+  ASSERT_NE(step.find(point), std::string::npos);
+  step.replace(step.find(point), point.size(),
+               "#32 = CARTESIAN_POINT('',(-67.11767521109,99999999999999999999,");
+  testing::write_file(work_path("cli_huge.stp"), step);
+  expect_error("info " + work_path("cli_huge.stp").string(), "entity #32 holds the number");
+  expect_error("mesh " + work_path("cli_huge.stp").string() + " --h 3 --dim 2 -o " +
+                   work_path("cli_huge.msh").string(),
+               "past any part's size");
+  EXPECT_FALSE(std::filesystem::exists(work_path("cli_huge.msh")));
+}
+
 }  // namespace
 }  // namespace hexfem
