@@ -230,8 +230,9 @@ int run(const Args& a) {
     std::printf("boundary  free-free (six rigid-body modes expected near 0 Hz)\n");
   for (std::size_t i = 0; i < a.modal.fix.size(); ++i)
     std::printf("boundary  --fix %s: %zu nodes\n", a.modal.fix[i].c_str(), fixed_nodes[i]);
-  std::printf("model     %ld free DOFs, %ld fixed; mass %.6g kg, volume %.6g m^3\n",
-              r.num_free_dofs, r.num_fixed_dofs, r.total_mass, r.volume);
+  std::printf(
+      "model     %ld free DOFs, %ld fixed, %ld nonzeros in K; mass %.6g kg, volume %.6g m^3\n",
+      r.num_free_dofs, r.num_fixed_dofs, r.stiffness_nnz, r.total_mass, r.volume);
   if (r.eigen.method == "iterative")
     std::printf(
         "solver    iterative (SLEPc %s + PETSc GAMG, %d rank%s; %s): assembly %.2f s, AMG "

@@ -57,6 +57,7 @@ struct JobOutput {
   double max_residual = 0;
   double peak_memory_bytes = 0;
   long num_free = 0, num_fixed = 0;
+  long stiffness_nnz = 0;  // entries of K over all ranks (decoupled fixed rows included)
 };
 
 // The nodes that carry equations (used by a cell, not fixed in all three components) in a
@@ -578,6 +579,9 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   out.total_mass = assemble(mesh, fixed, ties, L, job, sigma, lambda_spurious, mats);
   attach_near_null_space(mesh, L, job.length_scale, mats.K);
   out.assemble_seconds = seconds_since(t0);
+  MatInfo info;
+  HEXFEM_PETSC(MatGetInfo(mats.K, MAT_GLOBAL_SUM, &info));
+  out.stiffness_nnz = static_cast<long>(info.nz_used);
 
   RigidModes rigid;
   rigid_modes(mesh, L, fixed, mats, rigid);
@@ -702,6 +706,7 @@ ModalResult solve_modal_iterative(const MixedMesh& mesh, const ModalOptions& opt
   r.volume = o.total_mass / options.material.rho;
   for (int d = 0; d < 3; ++d) r.free_mass[d] = o.free_mass[d];
   r.assemble_seconds = o.assemble_seconds;
+  r.stiffness_nnz = o.stiffness_nnz;
   r.eigenvalues = o.eigenvalues;
   for (double lam : o.eigenvalues)
     r.frequencies.push_back(std::copysign(std::sqrt(std::abs(lam)) / (2 * M_PI), lam));

@@ -321,6 +321,7 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
   out.volume = sys.volume;
   out.num_free_dofs = dofs.num_free;
   out.num_fixed_dofs = dofs.num_fixed;
+  out.stiffness_nnz = 2 * static_cast<long>(sys.K.nonZeros()) - dofs.num_free;  // lower -> full
   out.num_cells = static_cast<long>(mesh.num_cells());
   out.num_nodes = static_cast<long>(mesh.nodes.size());
 

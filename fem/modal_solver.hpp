@@ -82,7 +82,8 @@ struct ModalResult {
   double volume = 0;  // m³
   long num_free_dofs = 0, num_fixed_dofs = 0;
   long num_cells = 0, num_nodes = 0;
-  double order_seconds = 0;     // fill-reducing order of the nodes
+  long stiffness_nnz = 0;    // entries of the assembled K (both triangles), as the solver holds it
+  double order_seconds = 0;  // fill-reducing order of the nodes
   double assemble_seconds = 0;  // DOF selection and numbering, K and M
   EigenResult eigen;            // solver figures (vectors moved into `modes`)
   std::string solver_reason;    // why this path was taken (--solver auto explains its pick)
