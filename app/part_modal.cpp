@@ -40,6 +40,7 @@ Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad) {
     };
   add_mid_edge_nodes(mesh, project, &report);
   straighten_invalid_cells(mesh, element_jacobian_ratio, 0.05, &report);
+  place_hanging_nodes_on_quads(mesh, element_jacobian_ratio, 0.05, &report);
   return report;
 }
 

@@ -33,10 +33,14 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
     j["h"] = a.options.surface.h;
     j["order"] = a.order;
     if (a.order == 2)
-      j["order2"] = {
-          {"edge_nodes", order2.edge_nodes},     {"boundary_nodes", order2.boundary_nodes},
-          {"curved_nodes", order2.curved_nodes}, {"projection_refused", order2.projection_refused},
-          {"max_offset", order2.max_offset},     {"straightened_cells", order2.straightened_cells}};
+      j["order2"] = {{"edge_nodes", order2.edge_nodes},
+                     {"boundary_nodes", order2.boundary_nodes},
+                     {"curved_nodes", order2.curved_nodes},
+                     {"projection_refused", order2.projection_refused},
+                     {"max_offset", order2.max_offset},
+                     {"straightened_cells", order2.straightened_cells},
+                     {"hanging_placed", order2.hanging_placed},
+                     {"hanging_kept", order2.hanging_kept}};
     if (!a.output.empty()) {
       j["output"] = a.output;
       j["write_seconds"] = write_seconds;
@@ -50,9 +54,10 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
   if (a.order == 2)
     std::printf(
         "order 2: %ld mid-edge nodes, %ld on the boundary, %ld curved onto the CAD geometry "
-        "(largest offset %.3f edge lengths), %ld cells straightened\n",
+        "(largest offset %.3f edge lengths), %ld cells straightened; NC faces' hanging nodes: "
+        "%ld placed on their quad, %ld kept\n",
         order2.edge_nodes, order2.boundary_nodes, order2.curved_nodes, order2.max_offset,
-        order2.straightened_cells);
+        order2.straightened_cells, order2.hanging_placed, order2.hanging_kept);
   if (!a.output.empty()) std::printf("wrote %s (%.3f s)\n", a.output.c_str(), write_seconds);
   for (const std::string& w : report.warnings)
     std::fprintf(stderr, "hexfem: warning: %s\n", w.c_str());

@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/quad8.hpp"
 
 namespace hexfem {
 
@@ -15,69 +16,14 @@ std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
   return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
 }
 
-// Serendipity quad8 on [-1,1]^2: corners (±1,±1) in the face's order, then the mid-edge nodes
-// of edges (0,1), (1,2), (2,3), (3,0). N[8], dN[8][2].
-void quad8_shape(double x, double y, double* N, double (*dN)[2]) {
-  static constexpr double c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-  for (int i = 0; i < 4; ++i) {
-    const double a = c[i][0], b = c[i][1], fx = 1 + a * x, fy = 1 + b * y, s = a * x + b * y - 1;
-    N[i] = fx * fy * s / 4;
-    dN[i][0] = (a * fy * s + fx * fy * a) / 4;
-    dN[i][1] = (fx * b * s + fx * fy * b) / 4;
-  }
-  for (int e = 0; e < 4; ++e) {
-    const double a = (c[e][0] + c[(e + 1) % 4][0]) / 2, b = (c[e][1] + c[(e + 1) % 4][1]) / 2;
-    if (a == 0) {  // edge along x at y = b
-      N[4 + e] = (1 - x * x) * (1 + b * y) / 2;
-      dN[4 + e][0] = -x * (1 + b * y);
-      dN[4 + e][1] = (1 - x * x) * b / 2;
-    } else {  // edge along y at x = a
-      N[4 + e] = (1 - y * y) * (1 + a * x) / 2;
-      dN[4 + e][0] = (1 - y * y) * a / 2;
-      dN[4 + e][1] = -y * (1 + a * x);
-    }
-  }
-}
-
 // The quad8 face's reference point nearest to p (Gauss-Newton from the centre): the hanging
 // node's displacement is the face's trace there, so a linear field stays linear across it. On
 // a parallelogram that is the centre (weights -1/4, 1/2); on a distorted quad it is not.
 // Returns false when p is not on the face (farther than 1e-6 of its size, or outside).
 bool face_weights(const MixedMesh& mesh, const std::int32_t* nodes, const Vec3& p, double* w) {
-  double x = 0, y = 0, N[8], dN[8][2];
-  for (int it = 0; it < 20; ++it) {
-    quad8_shape(x, y, N, dN);
-    double r[3] = {-p[0], -p[1], -p[2]}, J[3][2] = {};
-    for (int i = 0; i < 8; ++i)
-      for (int a = 0; a < 3; ++a) {
-        r[a] += N[i] * mesh.nodes[nodes[i]][a];
-        J[a][0] += dN[i][0] * mesh.nodes[nodes[i]][a];
-        J[a][1] += dN[i][1] * mesh.nodes[nodes[i]][a];
-      }
-    double A[2][2] = {}, g[2] = {};
-    for (int a = 0; a < 3; ++a)
-      for (int u = 0; u < 2; ++u) {
-        g[u] += J[a][u] * r[a];
-        for (int v = 0; v < 2; ++v) A[u][v] += J[a][u] * J[a][v];
-      }
-    const double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
-    if (!(det > 0)) break;
-    const double dx = (A[1][1] * g[0] - A[0][1] * g[1]) / det;
-    const double dy = (A[0][0] * g[1] - A[1][0] * g[0]) / det;
-    x = std::clamp(x - dx, -1.0, 1.0);
-    y = std::clamp(y - dy, -1.0, 1.0);
-    if (std::abs(dx) + std::abs(dy) < 1e-14) break;
-  }
-  quad8_shape(x, y, w, dN);
-  double size = 0, dist = 0;
-  for (int a = 0; a < 3; ++a) {
-    double xa = 0;
-    for (int i = 0; i < 8; ++i) xa += w[i] * mesh.nodes[nodes[i]][a];
-    dist += (xa - p[a]) * (xa - p[a]);
-    const double d = mesh.nodes[nodes[2]][a] - mesh.nodes[nodes[0]][a];
-    size += d * d;
-  }
-  return std::abs(x) < 0.999 && std::abs(y) < 0.999 && dist <= 1e-12 * size;
+  const Quad8Nearest q = quad8_nearest(mesh, nodes, p);
+  std::copy(q.w, q.w + 8, w);
+  return std::abs(q.x) < 0.999 && std::abs(q.y) < 0.999 && q.distance <= 1e-6 * q.size;
 }
 
 }  // namespace

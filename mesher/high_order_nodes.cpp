@@ -1,12 +1,16 @@
 #include "mesher/high_order_nodes.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
+#include <vector>
 
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
+#include "mesher/mesh/quad8.hpp"
 
 namespace hexfem {
 
@@ -137,6 +141,70 @@ void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, d
   if (report) {
     report->straightened_cells += cells;
     report->straightened_nodes += nodes;
+  }
+}
+
+void place_hanging_nodes_on_quads(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
+                                  Order2Report* report) {
+  if (mesh.order != 2 || mesh.nc_cell.empty()) return;
+  std::unordered_map<std::uint64_t, std::int32_t> mid;  // edge -> its mid-edge node
+  std::unordered_map<std::int32_t, std::vector<std::int32_t>> cells_of;  // mid-edge node -> cells
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+    const CellKind k = mesh.cell_kind[c];
+    for (int e = 0; e < num_edges(k); ++e) {
+      const std::int32_t m = mesh.cell_edges(c)[e];
+      mid.emplace(edge_key(mesh.cell(c)[edges_of(k)[e][0]], mesh.cell(c)[edges_of(k)[e][1]]), m);
+      cells_of[m].push_back(static_cast<std::int32_t>(c));
+    }
+  }
+  const auto find = [&](std::int32_t a, std::int32_t b) {
+    const auto it = mid.find(edge_key(a, b));
+    return it == mid.end() ? -1 : it->second;
+  };
+  // The NC quads as quad8 node lists; their side nodes are masters of ties and stay put.
+  std::vector<std::array<std::int32_t, 8>> quads;
+  std::vector<std::uint8_t> side(mesh.nodes.size(), 0);
+  for (std::size_t f = 0; f < mesh.nc_cell.size(); ++f) {
+    const std::size_t c = static_cast<std::size_t>(mesh.nc_cell[f]);
+    const LocalFace& lf = faces_of(mesh.cell_kind[c]).face[mesh.nc_local_face[f]];
+    if (lf.n != 4) continue;
+    std::array<std::int32_t, 8> q;
+    bool ok = true;
+    for (int i = 0; i < 4; ++i) q[i] = mesh.cell(c)[lf.v[i]];
+    for (int i = 0; i < 4; ++i) ok = ok && (q[4 + i] = find(q[i], q[(i + 1) % 4])) >= 0;
+    if (!ok) continue;
+    quads.push_back(q);
+    for (int i = 4; i < 8; ++i) side[static_cast<std::size_t>(q[i])] = 1;
+  }
+  std::vector<std::uint8_t> done(mesh.nodes.size(), 0);
+  long placed = 0, kept = 0;
+  for (const auto& q : quads)
+    for (int d = 0; d < 2; ++d) {
+      const std::int32_t h = find(q[d], q[d + 2]);  // a diagonal: only the triangles have it
+      if (h < 0 || done[h] || side[h]) continue;
+      done[h] = 1;
+      const Quad8Nearest near = quad8_nearest(mesh, q.data(), mesh.nodes[h]);
+      if (std::abs(near.x) >= 0.999 || std::abs(near.y) >= 0.999) continue;  // not over the face
+      if (near.distance <= 1e-9 * near.size) continue;                       // on it already
+      const std::vector<std::int32_t>& around = cells_of[h];
+      std::vector<double> before(around.size());
+      for (std::size_t i = 0; i < around.size(); ++i)
+        before[i] = ratio(mesh, static_cast<std::size_t>(around[i]));
+      const Vec3 old = mesh.nodes[h];
+      mesh.nodes[h] = near.at;
+      bool ok = true;
+      for (std::size_t i = 0; i < around.size() && ok; ++i)
+        ok = ratio(mesh, static_cast<std::size_t>(around[i])) >= std::min(min_ratio, before[i]);
+      if (ok) {
+        ++placed;
+      } else {
+        mesh.nodes[h] = old;
+        ++kept;
+      }
+    }
+  if (report) {
+    report->hanging_placed += placed;
+    report->hanging_kept += kept;
   }
 }
 

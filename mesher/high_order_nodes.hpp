@@ -18,6 +18,8 @@ struct Order2Report {
   double max_offset = 0;        // largest |node - midpoint| / edge length
   long straightened_cells = 0;  // cells made valid by setting their curved nodes back straight
   long straightened_nodes = 0;
+  long hanging_placed = 0;  // NC faces' mid-diagonal nodes moved onto their quad's surface
+  long hanging_kept = 0;    // left where they were: a cell around them would have degraded
 };
 
 // Where the mid-edge node of boundary edge (a, b) goes: the edge lies on CAD faces face1 and
@@ -38,5 +40,14 @@ using CellJacobianRatio = std::function<double(const MixedMesh& mesh, std::size_
 // no cell changes. Throws hexfem::Error naming the first cell still inverted afterwards.
 void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
                               Order2Report* report = nullptr);
+
+// At an NC quad face the triangles' diagonal has a mid-edge node the quad does not have. Straight,
+// it lies off the quad8's curved (twisted) surface: the solver cannot tie it to the quad's trace
+// there, so the face opens, and the cells on both sides overlap. Each such node is moved to the
+// quad8's point nearest to it, unless a cell around it would then fall below min_ratio (or below
+// its own ratio, if that was lower). Nodes on a side of another NC quad stay (that quad's own
+// tie depends on them). Call after straighten_invalid_cells.
+void place_hanging_nodes_on_quads(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
+                                  Order2Report* report = nullptr);
 
 }  // namespace hexfem

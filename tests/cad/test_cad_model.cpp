@@ -200,6 +200,9 @@ TEST(StepEntityCheck, NumbersAndReferences) {
   EXPECT_EQ(step_entity_problem(head + "#1=A(#2.5);\n#2=B();\n"), "malformed entity number '#2.5'");
   EXPECT_EQ(step_entity_problem(head + "#1=A(#-1);\n"), "'#' without an entity number");
   EXPECT_EQ(step_entity_problem(head + "#2147483647=A(#1);\n#1=B();\n"), "");
+  // A lost quote hides the next entity number from a reading of strings, not from this.
+  EXPECT_EQ(step_entity_problem(head + "#1=A(',#2);\n#2147483648=B('');\n"),
+            "entity number #2147483648 is past 2147483647");
   // Numbers: a coordinate near 1e20 crashed OpenCASCADE's shape healing (fuzz, seed 14).
   EXPECT_EQ(step_entity_problem(head + "#1=AXIS2_PLACEMENT_3D('',#2,$,$);\n"
                                        "#2=CARTESIAN_POINT('',(-99999.5,2.,3.E+3));\n"),

@@ -22,7 +22,10 @@ std::string run(const std::string& args, int* code) {
   return out;
 }
 
-TEST(Order2Modal, SteelPartAtH2WithinATenthOfAPercentOnF1F2) {
+// With the NC faces' hanging nodes on their quads (place_hanging_nodes_on_quads) the order-2 mesh
+// is nearly conforming, so its frequencies bound the reference from above: before, nodes left
+// off the twisted quads made f3 0.078 % low at h = 2, below the reference's uncertainty.
+TEST(Order2Modal, SteelPartAtH2BoundsTheReferenceWithinAQuarterPercent) {
   const std::string src = HEXFEM_SOURCE_DIR;
   std::ifstream ref_in(src + "/validation/reference/steel_part.json");
   const nlohmann::json ref = nlohmann::json::parse(ref_in);
@@ -36,9 +39,31 @@ TEST(Order2Modal, SteelPartAtH2WithinATenthOfAPercentOnF1F2) {
   EXPECT_NE(j["elements"].get<std::string>().find("hex20"), std::string::npos);
   EXPECT_EQ(j["order2"]["straightened_cells"], 0);
   EXPECT_GT(j["order2"]["curved_nodes"], 0);
-  for (int m = 0; m < 2; ++m) {
-    const double f = j["modes"][m]["frequency_hz"], fr = ref["reference_hz"][m];
-    EXPECT_LT(std::abs(f - fr) / fr, 1e-3) << "f" << m + 1 << " " << f << " vs " << fr;
+  EXPECT_GT(j["order2"]["hanging_placed"], 0);
+  for (int m = 0; m < 4; ++m) {
+    const double f = j["modes"][m]["frequency_hz"], fr = ref["reference_hz"][m],
+                 unc = ref["reference_uncertainty_rel"][m];
+    EXPECT_GT(f / fr - 1, -unc) << "f" << m + 1 << " " << f << " vs " << fr;
+    EXPECT_LT(f / fr - 1, 2.5e-3) << "f" << m + 1 << " " << f << " vs " << fr;
+  }
+}
+
+// The cylinder at h = 2.83, against the graded C3D20 O-grid reference of validation/order2.md
+// section 5 (f1 = f2 = 5182.13, f3 18868.58, f4 25552.97 Hz): with the hanging nodes left off
+// their quads the worst of f1-f4 was 0.70 % off (too soft); on them, 0.13 %.
+TEST(Order2Modal, CylinderHangingNodesOnTheirQuadsWithinAQuarterPercent) {
+  int code = 0;
+  const std::string out = run("modal " + std::string(HEXFEM_TEST_DATA) +
+                                  "/cylinder.stp --h 2.8284271 --fix 'y<177.501' --modes 4 "
+                                  "--order 2 --json",
+                              &code);
+  ASSERT_EQ(code, 0) << out;
+  const nlohmann::json j = nlohmann::json::parse(out.substr(out.find('{')));
+  EXPECT_GT(j["order2"]["hanging_placed"], 0);
+  const double ref[4] = {5182.13, 5182.13, 18868.58, 25552.97};
+  for (int m = 0; m < 4; ++m) {
+    const double f = j["modes"][m]["frequency_hz"];
+    EXPECT_LT(std::abs(f / ref[m] - 1), 2.5e-3) << "f" << m + 1 << " " << f << " vs " << ref[m];
   }
 }
 
