@@ -178,15 +178,7 @@ int run(const Args& a) {
     j["hex8"] = a.modal.hex8;
     j["order"] = mesh.order;
     j["elements"] = element_formulations(mesh.order, opt.incompatible_hex);
-    if (mesh.order == 2)
-      j["order2"] = {{"edge_nodes", part.order2.edge_nodes},
-                     {"boundary_nodes", part.order2.boundary_nodes},
-                     {"curved_nodes", part.order2.curved_nodes},
-                     {"projection_refused", part.order2.projection_refused},
-                     {"max_offset", part.order2.max_offset},
-                     {"straightened_cells", part.order2.straightened_cells},
-                     {"hanging_placed", part.order2.hanging_placed},
-                     {"hanging_kept", part.order2.hanging_kept}};
+    if (mesh.order == 2) j["order2"] = part.order2;
     j["units"] = {{"length", shown.name == "SI" ? "m" : "mm"},
                   {"scale_to_m", shown.scale},
                   {"material", "SI (Pa, kg/m^3)"},

@@ -7,6 +7,7 @@
 
 #include "app/convergence_table.hpp"
 #include "fem/modal_solver.hpp"
+#include "mesher/high_order_nodes.hpp"
 #include "mesher/surface_pipeline.hpp"
 
 namespace hexfem {
@@ -22,5 +23,8 @@ void to_json(nlohmann::json& j, const ConvergenceStudy& s);
 
 // The surface mesher's report: points, triangles, angles, checks per solid, time per stage.
 void to_json(nlohmann::json& j, const SurfaceReport& r);
+
+// Order 2: mid-edge nodes, curving onto the CAD, straightened cells, placed hanging nodes.
+void to_json(nlohmann::json& j, const Order2Report& r);
 
 }  // namespace hexfem

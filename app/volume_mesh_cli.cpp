@@ -6,6 +6,7 @@
 
 #include "app/cli_checks.hpp"
 #include "app/part_modal.hpp"
+#include "app/reports_json.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 #include "mesher/mesh_reports.hpp"
@@ -32,15 +33,7 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
     j["file"] = a.file;
     j["h"] = a.options.surface.h;
     j["order"] = a.order;
-    if (a.order == 2)
-      j["order2"] = {{"edge_nodes", order2.edge_nodes},
-                     {"boundary_nodes", order2.boundary_nodes},
-                     {"curved_nodes", order2.curved_nodes},
-                     {"projection_refused", order2.projection_refused},
-                     {"max_offset", order2.max_offset},
-                     {"straightened_cells", order2.straightened_cells},
-                     {"hanging_placed", order2.hanging_placed},
-                     {"hanging_kept", order2.hanging_kept}};
+    if (a.order == 2) j["order2"] = order2;
     if (!a.output.empty()) {
       j["output"] = a.output;
       j["write_seconds"] = write_seconds;
