@@ -1,6 +1,10 @@
-// Helpers for the CAD / surface-mesher tests: test data paths and running the CLI.
+// Helpers for the CAD / surface-mesher and CLI tests: test data paths, running the CLI, and
+// its one-line errors.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -28,6 +32,17 @@ inline int run_cli(const std::string& args, std::string* out, const std::string&
   while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) out->append(buf.data(), n);
   const int status = pclose(p);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Runs `hexfem args` and expects the one-line failure every command promises: exit 1 or 2 (not
+// a signal, not CLI11's own codes), exactly one line, "hexfem: error: " first, holding `needle`.
+inline void expect_one_line_error(const std::string& args, const std::string& needle) {
+  std::string out;
+  const int rc = run_cli(args, &out);
+  EXPECT_TRUE(rc == 1 || rc == 2) << rc << " " << args;
+  EXPECT_EQ(out.rfind("hexfem: error: ", 0), 0u) << out;
+  EXPECT_NE(out.find(needle), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
 }
 
 }  // namespace hexfem::cadtest

@@ -24,14 +24,8 @@ nlohmann::json json_of(const std::string& out) {
   return nlohmann::json::parse(out.substr(a, b - a + 1));
 }
 
-// Exit 1 or 2 (not a signal, not CLI11's own codes), one line, "hexfem: error: " first.
 void expect_error(const std::string& args, const std::string& needle) {
-  std::string out;
-  const int rc = run_cli(args, &out);
-  EXPECT_TRUE(rc == 1 || rc == 2) << rc << " " << args;
-  EXPECT_EQ(out.rfind("hexfem: error: ", 0), 0u) << out;
-  EXPECT_NE(out.find(needle), std::string::npos) << out;
-  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  cadtest::expect_one_line_error(args, needle);
 }
 
 TEST(CliSurface, InfoListsSolidsAndFaces) {

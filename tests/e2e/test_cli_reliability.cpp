@@ -20,14 +20,8 @@ using cadtest::data;
 using cadtest::run_cli;
 using cadtest::work;
 
-// Exit 1 or 2 (not a signal, not CLI11's 104-109), exactly one line, "hexfem: error: " first.
 void expect_error(const std::string& args, const std::string& needle) {
-  std::string out;
-  const int rc = run_cli(args, &out);
-  EXPECT_TRUE(rc == 1 || rc == 2) << rc << " " << args;
-  EXPECT_EQ(out.rfind("hexfem: error: ", 0), 0u) << out;
-  EXPECT_NE(out.find(needle), std::string::npos) << out;
-  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  cadtest::expect_one_line_error(args, needle);
 }
 
 fs::path fresh_dir(const std::string& name) {
