@@ -173,6 +173,7 @@ int run(const Args& a) {
       j["mesh"]["h"] = a.h;
       j["mesh"]["report"] = part.mesh_report;  // the mesher's report, as `hexfem mesh --json`
       j["mesh"]["mesh_seconds"] = part.mesh_seconds;
+      j["mesh"]["peak_memory_bytes"] = part.mesh_peak_bytes;
       if (!a.mesh_out.empty()) j["mesh"]["written"] = a.mesh_out;
     }
     j["hex8"] = a.modal.hex8;
@@ -204,11 +205,11 @@ int run(const Args& a) {
   if (cad_input)
     std::printf(
         "hexmesh   h = %g mm: H_nbr %.2f %%, H_vol %.2f %%, Q %.3f, NC %.2f %%, inverted %zu, "
-        "volume error %+.2e (%.2f s)%s%s\n",
+        "volume error %+.2e (%.2f s, peak memory %.2f GB)%s%s\n",
         a.h, part.mesh_report.stats.h_nbr, part.mesh_report.stats.h_vol,
         part.mesh_report.stats.q_mean, part.mesh_report.stats.nc_percent,
         part.mesh_report.stats.inverted, part.mesh_report.volume_error, part.mesh_seconds,
-        a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
+        part.mesh_peak_bytes / 1e9, a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
   std::printf("elements  %s\n", element_formulations(mesh.order, opt.incompatible_hex).c_str());
   if (mesh.order == 2)
     std::printf(

@@ -8,6 +8,7 @@
 #include "fem/boundary.hpp"
 #include "fem/element.hpp"
 #include "fem/nc_ties.hpp"
+#include "fem/petsc_env.hpp"
 #include "mesher/cad/cad_project.hpp"
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
@@ -86,6 +87,7 @@ PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_opti
   r.mesh = mesh_part(cad, mesh_options, &r.mesh_report);
   if (order == 2) r.order2 = raise_to_order2(r.mesh, &cad);
   r.mesh_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  r.mesh_peak_bytes = peak_rss_bytes();
   check_mesh_volume(r.mesh_report.mesh_volume, r.mesh_report.cad_volume, mesh_options.surface.h,
                     force);
 

@@ -17,7 +17,8 @@ struct PartModalResult {
   MeshReport mesh_report;  // mesh_report.stats: the mesh's measures
   ModalResult modal;
   double mesh_seconds = 0, solve_seconds = 0;  // mesh_seconds includes the order-2 nodes
-  Order2Report order2;                         // order 2 only
+  double mesh_peak_bytes = 0;  // the process's peak resident memory when the mesh was done
+  Order2Report order2;         // order 2 only
 };
 
 // True for the CAD extensions hexfem reads (.step .stp .iges .igs .brep .rle).

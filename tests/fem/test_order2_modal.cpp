@@ -40,6 +40,10 @@ TEST(Order2Modal, SteelPartAtH2BoundsTheReferenceWithinAQuarterPercent) {
   EXPECT_EQ(j["order2"]["straightened_cells"], 0);
   EXPECT_GT(j["order2"]["curved_nodes"], 0);
   EXPECT_GT(j["order2"]["hanging_placed"], 0);
+  // Memory per stage: the peak when the mesh was done, then the whole run's (never lower).
+  const double mesh_peak = j["mesh"]["peak_memory_bytes"];
+  EXPECT_GT(mesh_peak, 1e6);
+  EXPECT_LE(mesh_peak, j["solver"]["peak_memory_bytes"].get<double>());
   for (int m = 0; m < 4; ++m) {
     const double f = j["modes"][m]["frequency_hz"], fr = ref["reference_hz"][m],
                  unc = ref["reference_uncertainty_rel"][m];
