@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/quad8.hpp"
@@ -10,11 +9,6 @@
 namespace hexfem {
 
 namespace {
-
-std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
-}
 
 // The quad8 face's reference point nearest to p (Gauss-Newton from the centre): the hanging
 // node's displacement is the face's trace there, so a linear field stays linear across it. On
@@ -31,33 +25,10 @@ bool face_weights(const MixedMesh& mesh, const std::int32_t* nodes, const Vec3& 
 NodeTies nc_face_ties(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed) {
   NodeTies t;
   if (mesh.order != 2 || mesh.nc_cell.empty()) return t;
-  // Every edge's mid-edge node, and which nodes each NC cell has.
-  std::unordered_map<std::uint64_t, std::int32_t> mid;
-  mid.reserve(2 * mesh.num_cells());
-  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
-    const CellKind k = mesh.cell_kind[c];
-    const std::int32_t* v = mesh.cell(c);
-    const std::int32_t* e = mesh.cell_edges(c);
-    for (int i = 0; i < num_edges(k); ++i)
-      mid.emplace(edge_key(v[edges_of(k)[i][0]], v[edges_of(k)[i][1]]), e[i]);
-  }
-  const auto find = [&](std::int32_t a, std::int32_t b) {
-    const auto it = mid.find(edge_key(a, b));
-    return it == mid.end() ? -1 : it->second;
-  };
   t.slot.assign(mesh.nodes.size(), -1);
   std::vector<std::int32_t> candidates;
-  for (std::size_t f = 0; f < mesh.nc_cell.size(); ++f) {
-    const std::size_t c = static_cast<std::size_t>(mesh.nc_cell[f]);
-    const LocalFace& lf = faces_of(mesh.cell_kind[c]).face[mesh.nc_local_face[f]];
-    if (lf.n != 4) continue;
-    std::int32_t q[4], m[4];
-    for (int i = 0; i < 4; ++i) q[i] = mesh.cell(c)[lf.v[i]];
-    bool ok = true;
-    for (int i = 0; i < 4; ++i) ok = ok && (m[i] = find(q[i], q[(i + 1) % 4])) >= 0;
-    if (!ok) continue;
-    for (int d = 0; d < 2; ++d) {
-      const std::int32_t h = find(q[d], q[d + 2]);  // a diagonal: only the triangles have it
+  for (const NcQuad8& q : nc_quad8_faces(mesh)) {
+    for (const std::int32_t h : q.diagonal) {
       if (h < 0 || t.slot[h] >= 0) continue;
       bool is_fixed = false;
       for (int a = 0; a < 3 && !fixed.empty(); ++a) is_fixed = is_fixed || fixed[3 * h + a];
@@ -65,16 +36,15 @@ NodeTies nc_face_ties(const MixedMesh& mesh, const std::vector<std::uint8_t>& fi
         ++t.refused;
         continue;
       }
-      const std::int32_t nodes[8] = {q[0], q[1], q[2], q[3], m[0], m[1], m[2], m[3]};
       double w[8];
-      if (!face_weights(mesh, nodes, mesh.nodes[h], w)) {
+      if (!face_weights(mesh, q.nodes.data(), mesh.nodes[h], w)) {
         ++t.refused;
         continue;
       }
       t.slot[h] = static_cast<std::int32_t>(t.count++);
       candidates.push_back(h);
       for (int i = 0; i < 8; ++i) {
-        t.master.push_back(nodes[i]);
+        t.master.push_back(q.nodes[i]);
         t.weight.push_back(w[i]);
       }
     }

@@ -1,7 +1,6 @@
 #include "mesher/high_order_nodes.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -147,43 +146,22 @@ void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, d
 void place_hanging_nodes_on_quads(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
                                   Order2Report* report) {
   if (mesh.order != 2 || mesh.nc_cell.empty()) return;
-  std::unordered_map<std::uint64_t, std::int32_t> mid;  // edge -> its mid-edge node
   std::unordered_map<std::int32_t, std::vector<std::int32_t>> cells_of;  // mid-edge node -> cells
-  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
-    const CellKind k = mesh.cell_kind[c];
-    for (int e = 0; e < num_edges(k); ++e) {
-      const std::int32_t m = mesh.cell_edges(c)[e];
-      mid.emplace(edge_key(mesh.cell(c)[edges_of(k)[e][0]], mesh.cell(c)[edges_of(k)[e][1]]), m);
-      cells_of[m].push_back(static_cast<std::int32_t>(c));
-    }
-  }
-  const auto find = [&](std::int32_t a, std::int32_t b) {
-    const auto it = mid.find(edge_key(a, b));
-    return it == mid.end() ? -1 : it->second;
-  };
-  // The NC quads as quad8 node lists; their side nodes are masters of ties and stay put.
-  std::vector<std::array<std::int32_t, 8>> quads;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c)
+    for (int e = 0; e < num_edges(mesh.cell_kind[c]); ++e)
+      cells_of[mesh.cell_edges(c)[e]].push_back(static_cast<std::int32_t>(c));
+  // The side nodes of the NC quads are masters of ties and stay put.
+  const std::vector<NcQuad8> quads = nc_quad8_faces(mesh);
   std::vector<std::uint8_t> side(mesh.nodes.size(), 0);
-  for (std::size_t f = 0; f < mesh.nc_cell.size(); ++f) {
-    const std::size_t c = static_cast<std::size_t>(mesh.nc_cell[f]);
-    const LocalFace& lf = faces_of(mesh.cell_kind[c]).face[mesh.nc_local_face[f]];
-    if (lf.n != 4) continue;
-    std::array<std::int32_t, 8> q;
-    bool ok = true;
-    for (int i = 0; i < 4; ++i) q[i] = mesh.cell(c)[lf.v[i]];
-    for (int i = 0; i < 4; ++i) ok = ok && (q[4 + i] = find(q[i], q[(i + 1) % 4])) >= 0;
-    if (!ok) continue;
-    quads.push_back(q);
-    for (int i = 4; i < 8; ++i) side[static_cast<std::size_t>(q[i])] = 1;
-  }
+  for (const NcQuad8& q : quads)
+    for (int i = 4; i < 8; ++i) side[static_cast<std::size_t>(q.nodes[i])] = 1;
   std::vector<std::uint8_t> done(mesh.nodes.size(), 0);
   long placed = 0, kept = 0;
-  for (const auto& q : quads)
-    for (int d = 0; d < 2; ++d) {
-      const std::int32_t h = find(q[d], q[d + 2]);  // a diagonal: only the triangles have it
+  for (const NcQuad8& q : quads)
+    for (const std::int32_t h : q.diagonal) {
       if (h < 0 || done[h] || side[h]) continue;
       done[h] = 1;
-      const Quad8Nearest near = quad8_nearest(mesh, q.data(), mesh.nodes[h]);
+      const Quad8Nearest near = quad8_nearest(mesh, q.nodes.data(), mesh.nodes[h]);
       if (std::abs(near.x) >= 0.999 || std::abs(near.y) >= 0.999) continue;  // not over the face
       if (near.distance <= 1e-9 * near.size) continue;                       // on it already
       const std::vector<std::int32_t>& around = cells_of[h];

@@ -78,8 +78,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
     // At a size near the part's own (faces narrower than h, chords across whole holes) the
     // stages fail in their own terms (crossing boundaries, a self-intersecting surface); the
     // user must hear that the size is the cause.
-    const BBox3 b = cad.bbox();
-    const double diag = std::hypot(b.max[0] - b.min[0], b.max[1] - b.min[1], b.max[2] - b.min[2]);
+    const double diag = cad.bbox().diagonal();
     if (!(h > diag / kLargeSizeDivisor)) throw;
     char buf[200];
     std::snprintf(buf, sizeof buf,

@@ -28,9 +28,7 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
       throw Error("--size-at vertex:" + std::to_string(v) + ": size must be > 0");
     // Below this the edge points no longer grade away from the vertex in a few dozen steps
     // (1e-7 on the steel part: 16,000 edge points, 28 s; 1e-9 ran for minutes).
-    const BBox3 b = cad.bbox();
-    const double smallest =
-        kMinRelativeSize * std::hypot(b.max[0] - b.min[0], b.max[1] - b.min[1], b.max[2] - b.min[2]);
+    const double smallest = kMinRelativeSize * cad.bbox().diagonal();
     if (s < smallest) {
       char msg[200];
       std::snprintf(msg, sizeof msg,

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -19,6 +20,7 @@ using Vec2 = std::array<double, 2>;
 struct BBox3 {
   Vec3 min{0, 0, 0};
   Vec3 max{0, 0, 0};
+  double diagonal() const { return std::hypot(max[0] - min[0], max[1] - min[1], max[2] - min[2]); }
 };
 
 enum class SurfaceType {

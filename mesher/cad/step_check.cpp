@@ -26,6 +26,16 @@ bool word_char(char c) {
   return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.';
 }
 
+// The entity number after the '#' at i, its digits ending at `end`; past INT_MAX it stops
+// growing (any value above INT_MAX says the same).
+std::int64_t entity_number(std::string_view text, std::size_t i, std::size_t& end) {
+  std::int64_t id = 0;
+  for (end = i + 1; end < text.size() && std::isdigit(static_cast<unsigned char>(text[end])) != 0;
+       ++end)
+    if (id <= INT_MAX) id = id * 10 + (text[end] - '0');
+  return id;
+}
+
 }  // namespace
 
 std::string step_entity_problem(std::string_view text) {
@@ -36,14 +46,8 @@ std::string step_entity_problem(std::string_view text) {
   // took for text (fuzz run, seed 15, input 3370: '#2147483648 =' after a broken string).
   for (std::size_t i = text.find('#', data); i != std::string_view::npos;
        i = text.find('#', i + 1)) {
-    std::size_t j = i + 1;
-    std::int64_t id = 0;
-    while (j < text.size() && std::isdigit(static_cast<unsigned char>(text[j])) != 0 &&
-           id <= INT_MAX) {
-      id = id * 10 + (text[j] - '0');
-      ++j;
-    }
-    if (id > INT_MAX)
+    std::size_t j;
+    if (entity_number(text, i, j) > INT_MAX)
       return "entity number " + std::string(text.substr(i, std::min<std::size_t>(j - i, 40))) +
              " is past 2147483647";
   }
@@ -92,16 +96,9 @@ std::string step_entity_problem(std::string_view text) {
       statement_start = false;
       continue;
     }
-    std::size_t j = i + 1;
-    std::int64_t id = 0;
-    while (j < n && std::isdigit(static_cast<unsigned char>(text[j])) != 0) {
-      if (id <= INT_MAX) id = id * 10 + (text[j] - '0');
-      ++j;
-    }
+    std::size_t j;
+    const std::int64_t id = entity_number(text, i, j);  // <= INT_MAX: checked above
     if (j == i + 1) return "'#' without an entity number";
-    if (id > INT_MAX)
-      return "entity number " + std::string(text.substr(i, std::min<std::size_t>(j - i, 40))) +
-             " is past 2147483647";
     if (j < n && word_char(text[j])) {
       std::size_t k = j;
       while (k < n && k < j + 30 && word_char(text[k])) ++k;

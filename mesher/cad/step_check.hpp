@@ -10,7 +10,10 @@ namespace hexfem {
 // nothing is: a number past 2^31 - 1 (OpenCASCADE's reader overflows it and crashes), a number
 // run into letters or a point ("#1e999"), a '#' without a number, or a reference to an entity
 // that is not defined (the translator dereferences the missing entity and crashes), or a number
-// past 1e10 (shape healing crashes on such coordinates). Strings and comments are skipped. Text without a DATA section gives "" (left to the reader).
+// past 1e10 (shape healing crashes on such coordinates). Strings and comments are skipped, except
+// that no entity number anywhere, in a string or not, may pass 2^31 - 1 (a lost quote makes
+// OpenCASCADE read as an entity what looks like text here). Text without a DATA section gives ""
+// (left to the reader).
 std::string step_entity_problem(std::string_view text);
 
 }  // namespace hexfem

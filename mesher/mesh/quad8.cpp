@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
+
+#include "mesher/mesh/element_topology.hpp"
 
 namespace hexfem {
 
@@ -66,6 +69,43 @@ Quad8Nearest quad8_nearest(const MixedMesh& mesh, const std::int32_t* nodes, con
   q.distance = std::sqrt(dist);
   q.size = std::sqrt(size);
   return q;
+}
+
+std::vector<NcQuad8> nc_quad8_faces(const MixedMesh& mesh) {
+  std::vector<NcQuad8> out;
+  if (mesh.order != 2 || mesh.nc_cell.empty()) return out;
+  const auto key = [](std::int32_t a, std::int32_t b) {
+    if (a > b) std::swap(a, b);
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+           static_cast<std::uint32_t>(b);
+  };
+  std::unordered_map<std::uint64_t, std::int32_t> mid;  // every edge's mid-edge node
+  mid.reserve(2 * mesh.num_cells());
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+    const CellKind k = mesh.cell_kind[c];
+    const std::int32_t* v = mesh.cell(c);
+    const std::int32_t* e = mesh.cell_edges(c);
+    for (int i = 0; i < num_edges(k); ++i)
+      mid.emplace(key(v[edges_of(k)[i][0]], v[edges_of(k)[i][1]]), e[i]);
+  }
+  const auto find = [&](std::int32_t a, std::int32_t b) {
+    const auto it = mid.find(key(a, b));
+    return it == mid.end() ? -1 : it->second;
+  };
+  for (std::size_t f = 0; f < mesh.nc_cell.size(); ++f) {
+    const std::size_t c = static_cast<std::size_t>(mesh.nc_cell[f]);
+    const LocalFace& lf = faces_of(mesh.cell_kind[c]).face[mesh.nc_local_face[f]];
+    if (lf.n != 4) continue;
+    NcQuad8 q;
+    for (int i = 0; i < 4; ++i) q.nodes[i] = mesh.cell(c)[lf.v[i]];
+    bool ok = true;
+    for (int i = 0; i < 4; ++i)
+      ok = ok && (q.nodes[4 + i] = find(q.nodes[i], q.nodes[(i + 1) % 4])) >= 0;
+    if (!ok) continue;
+    for (int d = 0; d < 2; ++d) q.diagonal[d] = find(q.nodes[d], q.nodes[d + 2]);
+    out.push_back(q);
+  }
+  return out;
 }
 
 }  // namespace hexfem

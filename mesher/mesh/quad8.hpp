@@ -3,7 +3,9 @@
 // (mesher/high_order_nodes) and the ties of hanging nodes (fem/nc_ties).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <vector>
 
 #include "mesher/mesh/mixed_mesh.hpp"
 
@@ -22,5 +24,15 @@ struct Quad8Nearest {
   double size = 0;      // the length of the diagonal from node 0 to node 2
 };
 Quad8Nearest quad8_nearest(const MixedMesh& mesh, const std::int32_t* nodes, const Vec3& p);
+
+// The NC quad faces of an order-2 mesh as quad8s (corners in the face's order, then its
+// mid-edge nodes), each with the mid-edge nodes of its two diagonals (0-2, 1-3): only the
+// triangles across the face have one of them, the hanging node; -1 where no cell has the edge.
+// Faces whose sides have no mid-edge node are left out.
+struct NcQuad8 {
+  std::array<std::int32_t, 8> nodes;
+  std::array<std::int32_t, 2> diagonal;
+};
+std::vector<NcQuad8> nc_quad8_faces(const MixedMesh& mesh);
 
 }  // namespace hexfem

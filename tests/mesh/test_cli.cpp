@@ -145,18 +145,26 @@ TEST(Cli, ConvertAndStatsRefuseBadPathsAndNumbers) {
   EXPECT_TRUE(fs::exists(dir / "OUT_nc.vtu"));
 }
 
+// A copy of test data file `name` with its one occurrence of `from` replaced by `to` (the
+// mutations the fuzz run found), written as work file `out`; returns its path.
+std::string mutated_copy(const std::string& name, const std::string& from, const std::string& to,
+                         const std::string& out) {
+  std::ifstream in(std::string(HEXFEM_TEST_DATA) + "/" + name, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  testing::write_file(work_path(out), text);
+  return work_path(out).string();
+}
+
 // Found by the fuzz run: a STEP entity that fails to parse (here a direction with a corrupt
 // number) made OpenCASCADE's translator dereference a null (exit 139); now one line.
 TEST(Cli, CorruptStepEntityIsOneLine) {
-  std::ifstream in(std::string(HEXFEM_TEST_DATA) + "/cylinder.stp", std::ios::binary);
-  std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string good = "-2.236060986829E-008));";
-  ASSERT_NE(step.find(good), std::string::npos);
-  step.replace(step.find(good), good.size(), "-2.23>060986829E-008));");
-  testing::write_file(work_path("cli_corrupt.stp"), step);
-  expect_error("info " + work_path("cli_corrupt.stp").string(), "(DIRECTION) is corrupt");
-  expect_error("mesh " + work_path("cli_corrupt.stp").string() + " --h 3 --dim 2",
-               "(DIRECTION) is corrupt");
+  const std::string step = mutated_copy("cylinder.stp", "-2.236060986829E-008));",
+                                        "-2.23>060986829E-008));", "cli_corrupt.stp");
+  expect_error("info " + step, "(DIRECTION) is corrupt");
+  expect_error("mesh " + step + " --h 3 --dim 2", "(DIRECTION) is corrupt");
 }
 
 // Found by the fuzz run (seed 14): a cylinder whose axis point was moved so that its edges no
@@ -165,22 +173,15 @@ TEST(Cli, CorruptStepEntityIsOneLine) {
 // its edge points to 139k and take 30 s. Both now stop in one line: the refinement under a cap,
 // the repair once the points grew 16-fold. (Before, the first ran into the test's timeout.)
 TEST(Cli, StepCurvesOffTheirSurfaceStopInOneLine) {
-  std::ifstream in(std::string(HEXFEM_TEST_DATA) + "/cylinder.stp", std::ios::binary);
-  const std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string axis = "#47 = CARTESIAN_POINT('',(-67.75000207678,";
-  const std::string circle = "#41 = CARTESIAN_POINT('',(-67.75000207678,";
-  ASSERT_NE(step.find(axis), std::string::npos);
-  ASSERT_NE(step.find(circle), std::string::npos);
-  std::string moved_axis = step, moved_circle = step;
-  moved_axis.replace(moved_axis.find(axis), axis.size(), "#47 = CARTESIAN_POINT('',(0,");
-  moved_circle.replace(moved_circle.find(circle), circle.size(), "#41 = CARTESIAN_POINT('',(-1,");
-  testing::write_file(work_path("cli_axis.stp"), moved_axis);
-  testing::write_file(work_path("cli_circle.stp"), moved_circle);
-  expect_error("mesh " + work_path("cli_circle.stp").string() + " --h 3 --dim 2 -o " +
-                   work_path("cli_circle.msh").string(),
+  const std::string circle =
+      mutated_copy("cylinder.stp", "#41 = CARTESIAN_POINT('',(-67.75000207678,",
+                   "#41 = CARTESIAN_POINT('',(-1,", "cli_circle.stp");
+  const std::string axis =
+      mutated_copy("cylinder.stp", "#47 = CARTESIAN_POINT('',(-67.75000207678,",
+                   "#47 = CARTESIAN_POINT('',(0,", "cli_axis.stp");
+  expect_error("mesh " + circle + " --h 3 --dim 2 -o " + work_path("cli_circle.msh").string(),
                "could not be triangulated");
-  expect_error("mesh " + work_path("cli_axis.stp").string() + " --h 3 --dim 2 -o " +
-                   work_path("cli_axis.msh").string(),
+  expect_error("mesh " + axis + " --h 3 --dim 2 -o " + work_path("cli_axis.msh").string(),
                "crosses itself");
   EXPECT_FALSE(std::filesystem::exists(work_path("cli_circle.msh")));
   EXPECT_FALSE(std::filesystem::exists(work_path("cli_axis.msh")));
@@ -190,15 +191,10 @@ TEST(Cli, StepCurvesOffTheirSurfaceStopInOneLine) {
 // asked for 8.6e9 points at h = 0.25, allocated one by one (18.8 GB after 60 s); now refused
 // by name before any allocation.
 TEST(Cli, AVertexThrownFarAwayIsRefusedByItsEdge) {
-  std::ifstream in(std::string(HEXFEM_TEST_DATA) + "/box.stp", std::ios::binary);
-  std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string vertex = "#25 = CARTESIAN_POINT('',(0.E+000,0.E+000,1.));";
-  ASSERT_NE(step.find(vertex), std::string::npos);
-  step.replace(step.find(vertex), vertex.size(),
-               "#25 = CARTESIAN_POINT('',(2147483648,0.E+000,1.));");
-  testing::write_file(work_path("cli_far.stp"), step);
-  expect_error("mesh " + work_path("cli_far.stp").string() + " --h 0.25 --dim 2 -o " +
-                   work_path("cli_far.msh").string(),
+  const std::string step =
+      mutated_copy("box.stp", "#25 = CARTESIAN_POINT('',(0.E+000,0.E+000,1.));",
+                   "#25 = CARTESIAN_POINT('',(2147483648,0.E+000,1.));", "cli_far.stp");
+  expect_error("mesh " + step + " --h 0.25 --dim 2 -o " + work_path("cli_far.msh").string(),
                "would take about 8.59e+09 points");
   EXPECT_FALSE(std::filesystem::exists(work_path("cli_far.msh")));
 }
@@ -206,16 +202,11 @@ TEST(Cli, AVertexThrownFarAwayIsRefusedByItsEdge) {
 // Found by the fuzz run (seed 14, input 8633): a point of cylinder.stp at y = 1e20 crashed
 // OpenCASCADE's shape healing inside the STEP reader (exit 139, info and mesh alike).
 TEST(Cli, AHugeCoordinateIsOneLineNotACrash) {
-  std::ifstream in(std::string(HEXFEM_TEST_DATA) + "/cylinder.stp", std::ios::binary);
-  std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string point = "#32 = CARTESIAN_POINT('',(-67.11767521109,177.49999964728,";
-  ASSERT_NE(step.find(point), std::string::npos);
-  step.replace(step.find(point), point.size(),
-               "#32 = CARTESIAN_POINT('',(-67.11767521109,99999999999999999999,");
-  testing::write_file(work_path("cli_huge.stp"), step);
-  expect_error("info " + work_path("cli_huge.stp").string(), "entity #32 holds the number");
-  expect_error("mesh " + work_path("cli_huge.stp").string() + " --h 3 --dim 2 -o " +
-                   work_path("cli_huge.msh").string(),
+  const std::string step = mutated_copy(
+      "cylinder.stp", "#32 = CARTESIAN_POINT('',(-67.11767521109,177.49999964728,",
+      "#32 = CARTESIAN_POINT('',(-67.11767521109,99999999999999999999,", "cli_huge.stp");
+  expect_error("info " + step, "entity #32 holds the number");
+  expect_error("mesh " + step + " --h 3 --dim 2 -o " + work_path("cli_huge.msh").string(),
                "past any part's size");
   EXPECT_FALSE(std::filesystem::exists(work_path("cli_huge.msh")));
 }
