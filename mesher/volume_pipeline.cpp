@@ -64,13 +64,14 @@ VolumePoints insert_points(const SurfaceMesh& surface, const FrameField3D& field
 
 // Paper: hexes first, best quality first, under the conformity rules; the index stays for the
 // prisms.
-void place_hexes(RecombineState& s, ConformityIndex& index, VolumeReport& r) {
+void place_hexes(RecombineState& s, ConformityIndex& index, StageTimer& timer, VolumeReport& r) {
   index.reserve(s.used.size() / 6);  // at most one hex per six tets, about
   HexOptions ho;
   ho.min_quality = s.limits.min_quality;
   ho.fill = s.limits.fill;
   std::vector<Candidate> cands = enumerate_hexes(s.topo, ho);
   r.hex_candidates = cands.size();
+  r.stages.push_back(timer.lap("hex candidates"));
   place_greedily(s, cands, index);
 }
 
@@ -263,8 +264,9 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   r.flat_boundary_tets = drop_flat_boundary_tets(tets, surface, options.flat_tet_quality);
   const TetTopology topo(tets, surface);
   RecombineState s(topo, recombine_limits(options));
+  r.stages.push_back(timer.lap("tet topology"));
   ConformityIndex index;
-  place_hexes(s, index, r);
+  place_hexes(s, index, timer, r);
   r.stages.push_back(timer.lap("hexes"));
   place_prisms(s, index, options, r);
   r.stages.push_back(timer.lap("prisms"));
