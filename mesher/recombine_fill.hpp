@@ -27,6 +27,26 @@ struct Candidate {
   }
 };
 
+// A hex as the enumeration finds it: corners and quality; its tets are found when it is placed.
+// Half a Candidate's size: a million-vertex part has about 30 million hex candidates.
+struct HexCorners {
+  float quality = 0;
+  std::array<std::int32_t, 8> nodes;
+  // Candidate's order.
+  bool operator<(const HexCorners& o) const {
+    if (quality != o.quality) return quality > o.quality;
+    return nodes < o.nodes;
+  }
+  Candidate candidate() const {
+    Candidate c;
+    c.kind = CellKind::Hex8;
+    c.quality = quality;
+    c.nodes = nodes;
+    c.tets.fill(-1);
+    return c;
+  }
+};
+
 struct FillRules {
   double max_volume_gap = 0.02;  // |V(element) - V(its tets)| / V(its tets) allowed
   // Sum over quad faces of half the volume of the tet spanned by the face's corners (the most

@@ -14,7 +14,7 @@ namespace {
 // From lowest vertex v = p0 and p1 < p3, p1 < p4 (one of the three rotations about p0), each hex
 // has exactly one labelling, so each is found once.
 void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratch& scratch,
-                std::vector<Candidate>& out) {
+                std::vector<HexCorners>& out) {
   const auto& X = topo.mesh().nodes;
   auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
     return corner_at_least(X[o], X[a], X[b], X[c], qmin);
@@ -105,10 +105,8 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
                 if (!topo.adjacent(p1, p6) && !topo.adjacent(p2, p5)) continue;
                 if (!topo.adjacent(p3, p6) && !topo.adjacent(p2, p7)) continue;
                 if (!topo.adjacent(p4, p6) && !topo.adjacent(p5, p7)) continue;
-                Candidate c;
-                c.kind = CellKind::Hex8;
+                HexCorners c;
                 c.nodes = {v, p1, p2, p3, p4, p5, p6, p7};
-                c.tets.fill(-1);  // found by fills_element when the greedy pass reaches it
                 Vec3 x[8];
                 for (int i8 = 0; i8 < 8; ++i8) x[i8] = X[c.nodes[i8]];
                 c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Hex8, x));
@@ -125,11 +123,12 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
 
 }  // namespace
 
-std::vector<Candidate> enumerate_hexes(const TetTopology& topo, const HexOptions& options) {
-  return collect_candidates(static_cast<std::int32_t>(topo.num_vertices()),
-                            [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
-                              hexes_from(topo, v, options.min_quality, scratch, out);
-                            });
+SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions& options) {
+  return find_sorted_runs<HexCorners>(
+      static_cast<std::int32_t>(topo.num_vertices()),
+      [&](std::int32_t v, FillScratch& scratch, std::vector<HexCorners>& out) {
+        hexes_from(topo, v, options.min_quality, scratch, out);
+      });
 }
 
 }  // namespace hexfem

@@ -22,9 +22,10 @@ struct HexOptions {
   FillRules fill;
 };
 
-// Every candidate hex (sorted best first, deterministic): eight vertices whose twelve edges and
-// six quad faces are made of mesh edges and triangles, with every corner's scaled Jacobian at
-// least min_quality. Whether tets fill it is checked when it is placed (place_greedily).
-std::vector<Candidate> enumerate_hexes(const TetTopology& topo, const HexOptions& options);
+// Every candidate hex (in sorted runs: best first once merged, deterministic): eight vertices
+// whose twelve edges and six quad faces are made of mesh edges and triangles, with every
+// corner's scaled Jacobian at least min_quality. Whether tets fill it is checked when it is
+// placed (place_greedily).
+SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions& options);
 
 }  // namespace hexfem

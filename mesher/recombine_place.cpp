@@ -4,20 +4,33 @@
 
 namespace hexfem {
 
-std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find) {
-  std::vector<std::vector<Candidate>> runs;  // each thread's candidates, sorted, then merged
+namespace {
+
+constexpr std::size_t kChunk = 1 << 15;  // candidates fill-tested on all threads at a time
+
+}  // namespace
+
+template <class T>
+SortedRuns<T> find_sorted_runs(std::int32_t num_vertices, const FindInto<T>& find) {
+  SortedRuns<T> out;
 #pragma omp parallel
   {
-    std::vector<Candidate> local;
+    std::vector<T> local;
     FillScratch scratch;
 #pragma omp for schedule(dynamic, 256) nowait
     for (std::int32_t v = 0; v < num_vertices; ++v) find(v, scratch, local);
     std::sort(local.begin(), local.end());
 #pragma omp critical
-    runs.push_back(std::move(local));
+    out.runs.push_back(std::move(local));
   }
-  // Candidates are distinct and totally ordered: the merged order does not depend on which
-  // thread found what.
+  return out;
+}
+template SortedRuns<Candidate> find_sorted_runs(std::int32_t, const FindInto<Candidate>&);
+template SortedRuns<HexCorners> find_sorted_runs(std::int32_t, const FindInto<HexCorners>&);
+
+std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find) {
+  SortedRuns<Candidate> r = find_sorted_runs<Candidate>(num_vertices, find);
+  auto& runs = r.runs;
   std::vector<Candidate> all;
   if (runs.size() == 2) {
     // Two runs (two threads): each thread merges one half of the output, split where the first
@@ -44,21 +57,19 @@ std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindC
     return all;
   }
   std::vector<std::size_t> ends{0};
-  for (const auto& r : runs) {
-    all.insert(all.end(), r.begin(), r.end());
+  for (const auto& run : runs) {
+    all.insert(all.end(), run.begin(), run.end());
     ends.push_back(all.size());
   }
-  for (std::size_t r = 2; r < ends.size(); ++r)
-    std::inplace_merge(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(ends[r - 1]),
-                       all.begin() + static_cast<std::ptrdiff_t>(ends[r]));
+  for (std::size_t e = 2; e < ends.size(); ++e)
+    std::inplace_merge(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(ends[e - 1]),
+                       all.begin() + static_cast<std::ptrdiff_t>(ends[e]));
   return all;
 }
 
-std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
-                           ConformityIndex& index) {
+std::size_t place_greedily(RecombineState& s, const CandidateChunks& next, ConformityIndex& index) {
   const TetTopology& topo = s.topo;
   std::vector<char>& used = s.used;
-  if (!std::is_sorted(cands.begin(), cands.end())) std::sort(cands.begin(), cands.end());
   // Free tets around each vertex: a candidate with a corner whose tets are all taken cannot be
   // placed, and on big parts most candidates are rejected by this before any fill test.
   const TetMesh& m = topo.mesh();
@@ -73,20 +84,23 @@ std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
   };
   // In chunks, best first: the fill tests of a chunk's still possible candidates on all threads
   // (they only read `used`), then the serial greedy pass over the chunk.
-  constexpr std::size_t kChunk = 1 << 15;
-  std::vector<char> fillable(std::min(cands.size(), kChunk));
+  std::vector<Candidate> chunk;
+  std::vector<char> fillable;
   std::size_t kept = 0;
-  for (std::size_t start = 0; start < cands.size(); start += kChunk) {
-    const std::size_t end = std::min(cands.size(), start + kChunk);
-    const auto count = static_cast<std::ptrdiff_t>(end - start);
+  for (;;) {
+    chunk.clear();
+    next(chunk);
+    if (chunk.empty()) break;
+    fillable.resize(chunk.size());
+    const auto count = static_cast<std::ptrdiff_t>(chunk.size());
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t k = 0; k < count; ++k) {
-      Candidate& c = cands[start + k];
+      Candidate& c = chunk[k];
       fillable[k] = possible(c) && (c.tets[0] >= 0 || fills_element(topo, c, &used, s.limits.fill));
     }
-    for (std::size_t i = start; i < end; ++i) {
-      const Candidate& c = cands[i];
-      if (!fillable[i - start] || !possible(c)) continue;
+    for (std::size_t i = 0; i < chunk.size(); ++i) {
+      const Candidate& c = chunk[i];
+      if (!fillable[i] || !possible(c)) continue;
       bool free = true;
       for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
       if (!free || index.conflicts(c)) continue;
@@ -100,6 +114,33 @@ std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
   }
   s.debug_verify();
   return kept;
+}
+
+std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
+                           ConformityIndex& index) {
+  if (!std::is_sorted(cands.begin(), cands.end())) std::sort(cands.begin(), cands.end());
+  std::size_t at = 0;
+  return place_greedily(
+      s,
+      [&](std::vector<Candidate>& chunk) {
+        const std::size_t end = std::min(cands.size(), at + kChunk);
+        chunk.assign(cands.begin() + static_cast<std::ptrdiff_t>(at),
+                     cands.begin() + static_cast<std::ptrdiff_t>(end));
+        at = end;
+      },
+      index);
+}
+
+std::size_t place_greedily(RecombineState& s, const SortedRuns<HexCorners>& cands,
+                           ConformityIndex& index) {
+  std::vector<std::size_t> at(cands.runs.size(), 0);
+  return place_greedily(
+      s,
+      [&](std::vector<Candidate>& chunk) {
+        merge_runs_step(cands, at, kChunk,
+                        [&](const HexCorners& h) { chunk.push_back(h.candidate()); });
+      },
+      index);
 }
 
 }  // namespace hexfem

@@ -69,7 +69,7 @@ void place_hexes(RecombineState& s, ConformityIndex& index, StageTimer& timer, V
   HexOptions ho;
   ho.min_quality = s.limits.min_quality;
   ho.fill = s.limits.fill;
-  std::vector<Candidate> cands = enumerate_hexes(s.topo, ho);
+  const SortedRuns<HexCorners> cands = enumerate_hexes(s.topo, ho);
   r.hex_candidates = cands.size();
   r.stages.push_back(timer.lap("hex candidates"));
   place_greedily(s, cands, index);

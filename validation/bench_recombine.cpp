@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
       HexOptions ho;
       ho.min_quality = limits.min_quality;
       ho.fill = limits.fill;
-      std::vector<Candidate> cands;
+      SortedRuns<HexCorners> cands;
       timed(t_enum, [&] { cands = enumerate_hexes(*topo, ho); });
       RecombineState state(*topo, limits);
       ConformityIndex index;

@@ -41,7 +41,7 @@ Lattice lattice_of_tets(int nx, int ny, int nz, CellKind kind) {
 TEST(RecombineHex, FindsEveryCubeOfAKuhnLattice) {
   const Lattice L = lattice_of_tets(4, 3, 2, CellKind::Tet4);
   const TetTopology topo(L.tets, L.surface);
-  std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
+  const auto cands = enumerate_hexes(topo, HexOptions{});
   RecombineState state(topo, RecombineLimits{});
   ConformityIndex index;
   ASSERT_EQ(place_greedily(state, cands, index), 24u);
@@ -55,7 +55,11 @@ TEST(RecombineHex, FindsEveryCubeOfAKuhnLattice) {
   for (char u : state.used) EXPECT_TRUE(u);
   // The sheared parallelepipeds the lattice also contains score below the cubes.
   EXPECT_GT(cands.size(), hexes.size());
-  for (std::size_t i = 1; i < cands.size(); ++i) EXPECT_FALSE(cands[i] < cands[i - 1]);
+  std::vector<HexCorners> merged;
+  std::vector<std::size_t> at(cands.runs.size(), 0);
+  merge_runs_step(cands, at, cands.size() + 1, [&](const HexCorners& h) { merged.push_back(h); });
+  ASSERT_EQ(merged.size(), cands.size());
+  for (std::size_t i = 1; i < merged.size(); ++i) EXPECT_TRUE(merged[i - 1] < merged[i]);
 }
 
 TEST(RecombineHex, QuadAcrossTwoCadFacesIsNotMade) {
@@ -69,7 +73,7 @@ TEST(RecombineHex, QuadAcrossTwoCadFacesIsNotMade) {
     }
   auto hexes_made = [](const Lattice& l) {
     const TetTopology topo(l.tets, l.surface);
-    std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
+    const auto cands = enumerate_hexes(topo, HexOptions{});
     RecombineState state(topo, RecombineLimits{});
     ConformityIndex index;
     return place_greedily(state, cands, index);
@@ -139,7 +143,7 @@ template <class Keep>
 Recombined lattice_with_hexes(Keep keep, int nz = 3) {
   Recombined R{lattice_of_tets(3, 3, nz, CellKind::Tet4), {}, {}};
   const TetTopology topo(R.lattice.tets, R.lattice.surface);
-  std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
+  const auto cands = enumerate_hexes(topo, HexOptions{});
   RecombineState state(topo, RecombineLimits{});
   ConformityIndex index;
   R.used.assign(state.used.size(), 0);
@@ -185,7 +189,7 @@ TEST(RecombineState, VerifyFindsATetInTwoPlacesOrInNone) {
   const Lattice L = lattice_of_tets(1, 1, 1, CellKind::Tet4);
   const TetTopology topo(L.tets, L.surface);
   RecombineState state(topo, RecombineLimits{});
-  std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
+  const auto cands = enumerate_hexes(topo, HexOptions{});
   ConformityIndex index;
   ASSERT_EQ(place_greedily(state, cands, index), 1u);
   EXPECT_NO_THROW(state.verify());
