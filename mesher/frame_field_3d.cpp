@@ -19,6 +19,8 @@ using RValue = std::pair<RPoint, std::int32_t>;
 
 struct FrameField3D::Index {
   bgi::rtree<RValue, bgi::rstar<16>> tree;
+  bgi::rtree<RValue, bgi::rstar<16>> smaller;  // the vertices whose size is below the largest
+  double reach = 0;  // beyond this distance from every smaller vertex, the size is the largest
 };
 
 namespace {
@@ -67,6 +69,26 @@ FrameField3D::FrameField3D(const SurfaceMesh& surface) : index_(std::make_unique
   }
   // The packing constructor builds the same tree for the same input (deterministic queries).
   index_->tree = bgi::rtree<RValue, bgi::rstar<16>>(values.begin(), values.end());
+  std::vector<RValue> smaller;
+  double min_size = max_size_;
+  for (const RValue& value : values)
+    if (sizes_[value.second] < max_size_) {
+      smaller.push_back(value);
+      min_size = std::min(min_size, sizes_[value.second]);
+    }
+  index_->smaller = bgi::rtree<RValue, bgi::rstar<16>>(smaller.begin(), smaller.end());
+  // With some slack: at_max_size then decides with size_at's own arithmetic.
+  index_->reach = (max_size_ - min_size) / kSizeGrading * (1 + 1e-6) + 1e-12 * max_size_;
+}
+
+bool FrameField3D::at_max_size(const Vec3& p) const {
+  if (index_->smaller.empty()) return true;
+  const double r = index_->reach;
+  const bg::model::box<RPoint> box(RPoint(p[0] - r, p[1] - r, p[2] - r),
+                                   RPoint(p[0] + r, p[1] + r, p[2] + r));
+  for (auto it = index_->smaller.qbegin(bgi::intersects(box)); it != index_->smaller.qend(); ++it)
+    if (size_at(p, it->second) < max_size_) return false;
+  return true;
 }
 
 FrameField3D::~FrameField3D() = default;

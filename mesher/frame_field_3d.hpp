@@ -39,6 +39,12 @@ class FrameField3D {
   // (MVE at h = 9.55: 1.77M interior points, 90 % of them at one vertex's size 0.14, without it).
   double size_at(const Vec3& p, std::int32_t v) const;
   static constexpr double kSizeGrading = 0.3;
+  double max_size() const { return max_size_; }
+  // True when size_at(p, v) is max_size() whatever v is nearest: no vertex of a smaller size is
+  // close enough to p to lower it. Much cheaper than nearest_vertex (a box query over the
+  // smaller-size vertices only, none on a uniform size field), so callers that need only the
+  // size ask this first.
+  bool at_max_size(const Vec3& p) const;
 
  private:
   struct Index;

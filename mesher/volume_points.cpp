@@ -19,7 +19,7 @@ namespace bgi = boost::geometry::index;
 using RPoint = bg::model::point<double, 3, bg::cs::cartesian>;
 using RBox = bg::model::box<RPoint>;
 using RValue = std::pair<RPoint, std::int32_t>;
-using RTree = bgi::rtree<RValue, bgi::rstar<16>>;
+using RTree = bgi::rtree<RValue, bgi::quadratic<16>>;
 
 RPoint rp(const Vec3& p) {
   return RPoint(p[0], p[1], p[2]);
@@ -120,15 +120,32 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       const Vec3& dir = pf[j / 2];
       Vec3 trial;
       for (int a = 0; a < 3; ++a) trial[a] = x[a] + sign * hp * dir[a];
+      // The nearest surface vertex is needed for the frame (--nearest-frame) or where a smaller
+      // size may reach the trial point; elsewhere the size is the largest (same result, no
+      // nearest-vertex query: most of this stage's time on a uniform size).
       double margin = 0;
-      std::int32_t nv = field.nearest_vertex(trial, &margin);
-      double hc = field.size_at(trial, nv);
+      std::int32_t nv = -1;
+      double hc = 0;
+      auto size_and_nearest = [&] {
+        if (inherit_frame && field.at_max_size(trial)) {
+          nv = -1;
+          hc = field.max_size();
+        } else {
+          nv = field.nearest_vertex(trial, &margin);
+          hc = field.size_at(trial, nv);
+        }
+      };
+      size_and_nearest();
       const double d = 0.5 * (hp + hc);
       if (d != hp) {
         for (int a = 0; a < 3; ++a) trial[a] = x[a] + sign * d * dir[a];
         // A move shorter than the margin keeps the nearest vertex: no second query.
-        if (!(std::abs(d - hp) < margin)) nv = field.nearest_vertex(trial);
-        hc = field.size_at(trial, nv);
+        if (nv >= 0 && std::abs(d - hp) < margin) {
+          hc = field.size_at(trial, nv);
+        } else {
+          margin = 0;
+          size_and_nearest();
+        }
       }
       c.pos = trial;
       c.size = hc;

@@ -107,6 +107,43 @@ TEST(FrameField3D, SizeGrowsAwayFromASmallVertexUpToTheLargestSize) {
   EXPECT_DOUBLE_EQ(f.size_at(far, v), 0.25);
 }
 
+// at_max_size is the nearest-vertex size test without the nearest vertex: wherever it says yes,
+// the size at the true nearest vertex (found here by brute force) is the largest; and it says
+// yes everywhere on a uniform size field. Points on a grid through and around the cylinder.
+TEST(FrameField3D, AtMaxSizeAgreesWithTheSizeAtTheNearestVertex) {
+  SurfaceMesh s = synthetic::cylinder_surface(1.0, 2.0, 0.25);
+  const FrameField3D uniform(s);
+  s.size[5] = 0.01;
+  s.size[40] = 0.2;
+  const FrameField3D f(s);
+  int yes = 0, no = 0;
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j)
+      for (int k = 0; k <= 24; ++k) {
+        const Vec3 p{-1.2 + 0.12 * i, -1.2 + 0.12 * j, -0.2 + 0.1 * k};
+        EXPECT_TRUE(uniform.at_max_size(p));
+        std::int32_t best = 0;
+        double d_best = 1e300;
+        for (std::size_t v = 0; v < s.mesh.nodes.size(); ++v) {
+          const Vec3 d = synthetic::sub3(p, s.mesh.nodes[v]);
+          if (synthetic::dot3(d, d) < d_best) {
+            d_best = synthetic::dot3(d, d);
+            best = static_cast<std::int32_t>(v);
+          }
+        }
+        const bool at_max = f.size_at(p, best) == f.max_size();
+        if (f.at_max_size(p)) {
+          EXPECT_TRUE(at_max) << p[0] << " " << p[1] << " " << p[2];
+          ++yes;
+        } else {
+          ++no;
+        }
+      }
+  // Both answers occur: the small vertices lower the size near them only.
+  EXPECT_GT(yes, 1000);
+  EXPECT_GT(no, 10);
+}
+
 // One surface vertex made 10x finer (as at a tiny CAD feature): the fine points it grows stay near
 // it, graded back to h, instead of filling the whole region of the volume nearest to it at its
 // size (MVE at h = 9.55 had 1.77M interior points that way, 90 % at one vertex's size).
