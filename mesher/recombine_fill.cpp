@@ -82,6 +82,7 @@ bool fills_element(const TetTopology& topo, Candidate& c, const std::vector<char
       bool sliver = false;
       for (int f = 0; f < cf.count; ++f) sliver = sliver || mask == face_mask[f];
       if (sliver) continue;
+      if (used && (*used)[u->tet]) return false;  // (the check below, early: most fail here)
       if (n == 7) return false;
       int j = n++;
       const int lo = std::countr_zero(mask);

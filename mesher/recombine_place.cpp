@@ -12,16 +12,28 @@ constexpr std::size_t kChunk = 1 << 15;  // candidates fill-tested on all thread
 
 template <class T>
 SortedRuns<T> find_sorted_runs(std::int32_t num_vertices, const FindInto<T>& find) {
+  // Each thread sorts its finds a block at a time: a buffer filled once, never grown by copying
+  // (30M hex candidates on a 1M-vertex part), and sorts of cache-friendlier size.
+  constexpr std::size_t kRun = std::size_t{1} << 22;
   SortedRuns<T> out;
 #pragma omp parallel
   {
     std::vector<T> local;
+    local.reserve(kRun);
     FillScratch scratch;
-#pragma omp for schedule(dynamic, 256) nowait
-    for (std::int32_t v = 0; v < num_vertices; ++v) find(v, scratch, local);
-    std::sort(local.begin(), local.end());
+    auto flush = [&] {
+      std::sort(local.begin(), local.end());
 #pragma omp critical
-    out.runs.push_back(std::move(local));
+      out.runs.push_back(std::move(local));
+      local = {};
+      local.reserve(kRun);
+    };
+#pragma omp for schedule(dynamic, 256) nowait
+    for (std::int32_t v = 0; v < num_vertices; ++v) {
+      find(v, scratch, local);
+      if (local.size() >= kRun) flush();
+    }
+    if (!local.empty()) flush();
   }
   return out;
 }
@@ -89,7 +101,7 @@ std::size_t place_greedily(RecombineState& s, const CandidateChunks& next, Confo
   std::size_t kept = 0;
   for (;;) {
     chunk.clear();
-    next(chunk);
+    next(chunk, free_around);
     if (chunk.empty()) break;
     fillable.resize(chunk.size());
     const auto count = static_cast<std::ptrdiff_t>(chunk.size());
@@ -122,7 +134,7 @@ std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
   std::size_t at = 0;
   return place_greedily(
       s,
-      [&](std::vector<Candidate>& chunk) {
+      [&](std::vector<Candidate>& chunk, const std::vector<std::int32_t>&) {
         const std::size_t end = std::min(cands.size(), at + kChunk);
         chunk.assign(cands.begin() + static_cast<std::ptrdiff_t>(at),
                      cands.begin() + static_cast<std::ptrdiff_t>(end));
@@ -133,12 +145,19 @@ std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
 
 std::size_t place_greedily(RecombineState& s, const SortedRuns<HexCorners>& cands,
                            ConformityIndex& index) {
-  std::vector<std::size_t> at(cands.runs.size(), 0);
+  RunMerger<HexCorners> merger(cands);
   return place_greedily(
       s,
-      [&](std::vector<Candidate>& chunk) {
-        merge_runs_step(cands, at, kChunk,
-                        [&](const HexCorners& h) { chunk.push_back(h.candidate()); });
+      [&](std::vector<Candidate>& chunk, const std::vector<std::int32_t>& free_around) {
+        // Most hexes late in the order have a corner with no free tet left: dropped here,
+        // before they are copied and fill-tested.
+        while (chunk.size() < kChunk) {
+          const HexCorners* h = merger.next();
+          if (!h) return;
+          bool possible = true;
+          for (const std::int32_t v : h->nodes) possible = possible && free_around[v] > 0;
+          if (possible) chunk.push_back(h->candidate());
+        }
       },
       index);
 }

@@ -56,10 +56,37 @@ TEST(RecombineHex, FindsEveryCubeOfAKuhnLattice) {
   // The sheared parallelepipeds the lattice also contains score below the cubes.
   EXPECT_GT(cands.size(), hexes.size());
   std::vector<HexCorners> merged;
-  std::vector<std::size_t> at(cands.runs.size(), 0);
-  merge_runs_step(cands, at, cands.size() + 1, [&](const HexCorners& h) { merged.push_back(h); });
+  RunMerger<HexCorners> merger(cands);
+  while (const HexCorners* h = merger.next()) merged.push_back(*h);
   ASSERT_EQ(merged.size(), cands.size());
   for (std::size_t i = 1; i < merged.size(); ++i) EXPECT_TRUE(merged[i - 1] < merged[i]);
+}
+
+// Runs of unequal length (one empty) merge into the one sorted order, each candidate once.
+TEST(RecombineHex, RunMergerGivesTheSortedUnionOfTheRuns) {
+  SortedRuns<HexCorners> r;
+  std::vector<HexCorners> all;
+  for (int run = 0; run < 5; ++run) {
+    std::vector<HexCorners> v;
+    for (int i = 0; i < 7 * run; ++i) {
+      HexCorners h;
+      h.quality = static_cast<float>((i * 37 + run * 11) % 23) / 23.0f;  // ties in quality
+      h.nodes = {run, i, 0, 0, 0, 0, 0, 0};
+      v.push_back(h);
+      all.push_back(h);
+    }
+    std::sort(v.begin(), v.end());
+    r.runs.push_back(v);
+  }
+  std::sort(all.begin(), all.end());
+  std::vector<HexCorners> merged;
+  RunMerger<HexCorners> merger(r);
+  while (const HexCorners* h = merger.next()) merged.push_back(*h);
+  ASSERT_EQ(merged.size(), all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(merged[i].nodes, all[i].nodes);
+    EXPECT_EQ(merged[i].quality, all[i].quality);
+  }
 }
 
 TEST(RecombineHex, QuadAcrossTwoCadFacesIsNotMade) {
