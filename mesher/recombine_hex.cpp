@@ -1,6 +1,7 @@
 #include "mesher/recombine_hex.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "mesher/mesh/quality.hpp"
 
@@ -14,6 +15,7 @@ namespace {
 // From lowest vertex v = p0 and p1 < p3, p1 < p4 (one of the three rotations about p0), each hex
 // has exactly one labelling, so each is found once.
 void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratch& scratch,
+                const std::vector<char>* used, float keep_from, float keep_below,
                 std::vector<HexCorners>& out) {
   const auto& X = topo.mesh().nodes;
   auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
@@ -21,7 +23,7 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
   };
   // The corner at v is three quad faces (v p1 p2 p3), (v p1 p5 p4), (v p3 p7 p4) pairwise
   // sharing an edge at v: triangles in the graph of v's edges linked by potential quads.
-  quads_at(topo, v, qmin, scratch);
+  quads_at(topo, v, qmin, scratch, used);
   const auto& Q = scratch.quads;
   const auto& K = scratch.keys;
   if (Q.empty()) return;
@@ -110,6 +112,7 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
                 Vec3 x[8];
                 for (int i8 = 0; i8 < 8; ++i8) x[i8] = X[c.nodes[i8]];
                 c.quality = static_cast<float>(min_scaled_jacobian(CellKind::Hex8, x));
+                if (!(c.quality >= keep_from && c.quality < keep_below)) continue;
                 out.push_back(c);
               }
             }
@@ -123,12 +126,37 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
 
 }  // namespace
 
-SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions& options) {
+SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions& options,
+                                       const QualityBand& band, const std::vector<char>* used) {
+  // Every corner of a hex of quality q has a scaled Jacobian of at least q (the hex's is their
+  // minimum): a band's lower end prunes the search. Corners are computed with other rounding
+  // than the quality, hence the small allowance; the band itself is kept exactly.
+  const double corner_min = std::max(options.min_quality, static_cast<double>(band.from) - 1e-6);
   return find_sorted_runs<HexCorners>(
       static_cast<std::int32_t>(topo.num_vertices()),
       [&](std::int32_t v, FillScratch& scratch, std::vector<HexCorners>& out) {
-        hexes_from(topo, v, options.min_quality, scratch, out);
+        hexes_from(topo, v, corner_min, scratch, used, band.from, band.below, out);
       });
+}
+
+std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
+                                 ConformityIndex& index, std::size_t* candidates) {
+  // The greedy order in bands of quality, best first: the best band is found and placed first;
+  // each later band is then searched only among quads of free tets, since a hex with a used tet
+  // can never be placed. Same hexes as one sorted list of every candidate, a fraction of the
+  // enumeration on big parts (most candidates overlap hexes of a better band).
+  std::size_t kept = 0;
+  float below = std::numeric_limits<float>::infinity();
+  for (std::size_t b = 0; b <= options.quality_bands.size(); ++b) {
+    QualityBand band{-std::numeric_limits<float>::infinity(), below};
+    if (b < options.quality_bands.size()) band.from = options.quality_bands[b];
+    const SortedRuns<HexCorners> cands =
+        enumerate_hexes(s.topo, options, band, b == 0 ? nullptr : &s.used);
+    if (candidates) *candidates += cands.size();
+    kept += place_greedily(s, cands, index);
+    below = band.from;
+  }
+  return kept;
 }
 
 }  // namespace hexfem

@@ -64,15 +64,13 @@ VolumePoints insert_points(const SurfaceMesh& surface, const FrameField3D& field
 
 // Paper: hexes first, best quality first, under the conformity rules; the index stays for the
 // prisms.
-void place_hexes(RecombineState& s, ConformityIndex& index, StageTimer& timer, VolumeReport& r) {
+void place_hexes(RecombineState& s, ConformityIndex& index, VolumeReport& r) {
   index.reserve(s.used.size() / 6);  // at most one hex per six tets, about
   HexOptions ho;
   ho.min_quality = s.limits.min_quality;
   ho.fill = s.limits.fill;
-  const SortedRuns<HexCorners> cands = enumerate_hexes(s.topo, ho);
-  r.hex_candidates = cands.size();
-  r.stages.push_back(timer.lap("hex candidates"));
-  place_greedily(s, cands, index);
+  r.hex_candidates = 0;
+  place_hexes_greedily(s, ho, index, &r.hex_candidates);
 }
 
 // Then prisms from the free tets, and the slivers between two elements' faces or under a
@@ -266,7 +264,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   RecombineState s(topo, recombine_limits(options));
   r.stages.push_back(timer.lap("tet topology"));
   ConformityIndex index;
-  place_hexes(s, index, timer, r);
+  place_hexes(s, index, r);
   r.stages.push_back(timer.lap("hexes"));
   place_prisms(s, index, options, r);
   r.stages.push_back(timer.lap("prisms"));

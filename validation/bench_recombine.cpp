@@ -2,7 +2,9 @@
 // to TetGen once, then the hex enumeration, the hex placement and the prism stage are timed
 // `repeat` times each (best and median wall time, CPU time of the best), so that a change in
 // one stage is measured without the noise of the rest of the pipeline.
-//   bench_recombine <part.step|.iges|.brep> <h> [--repeat N]
+//   bench_recombine <part.step|.iges|.brep> <h> [--repeat N] [--bands 0.8,0.6]
+// The hex timing is place_hexes_greedily (enumeration and placement, band by band: --bands, the
+// default HexOptions' otherwise; --bands none: one band).
 // Threads: OMP_NUM_THREADS.
 #include <algorithm>
 #include <chrono>
@@ -67,11 +69,20 @@ int main(int argc, char** argv) {
     }
     const double h = std::stod(argv[2]);
     int repeat = 5;
+    std::vector<float> bands = HexOptions{}.quality_bands;
     for (int i = 3; i < argc; ++i) {
       const std::string a = argv[i];
-      if (a == "--repeat" && i + 1 < argc)
+      if (a == "--repeat" && i + 1 < argc) {
         repeat = std::max(1, std::stoi(argv[++i]));
-      else
+      } else if (a == "--bands" && i + 1 < argc) {
+        bands.clear();
+        const std::string list = argv[++i];
+        for (std::size_t at = 0; list != "none" && at < list.size();) {
+          const std::size_t comma = std::min(list.find(',', at), list.size());
+          bands.push_back(std::stof(list.substr(at, comma - at)));
+          at = comma + 1;
+        }
+      } else
         throw Error("unknown option " + a);
     }
     const CadModel cad = CadModel::read(argv[1]);
@@ -90,7 +101,7 @@ int main(int argc, char** argv) {
     std::printf("%s h=%g: %zu vertices, %zu tets\n", argv[1], h, tets.nodes.size(),
                 tets.tets.size());
 
-    Timing t_topo, t_enum, t_place, t_prism;
+    Timing t_topo, t_hex, t_prism;
     std::size_t ncand = 0, nhex = 0, nprism = 0;
     for (int r = 0; r < repeat; ++r) {
       const TetTopology* topo = nullptr;
@@ -102,22 +113,20 @@ int main(int argc, char** argv) {
       HexOptions ho;
       ho.min_quality = limits.min_quality;
       ho.fill = limits.fill;
-      SortedRuns<HexCorners> cands;
-      timed(t_enum, [&] { cands = enumerate_hexes(*topo, ho); });
+      ho.quality_bands = bands;
       RecombineState state(*topo, limits);
       ConformityIndex index;
-      timed(t_place, [&] { nhex = place_greedily(state, cands, index); });
+      ncand = 0;
+      timed(t_hex, [&] { nhex = place_hexes_greedily(state, ho, index, &ncand); });
       timed(t_prism, [&] {
         std::vector<Candidate> pc = enumerate_prisms(state);
         nprism = place_greedily(state, pc, index);
       });
-      ncand = cands.size();
       delete topo;
     }
     std::printf("hex candidates %zu, hexes %zu, prisms %zu\n", ncand, nhex, nprism);
     t_topo.print("tet topology");
-    t_enum.print("hex enumeration");
-    t_place.print("hex placement");
+    t_hex.print("hexes");
     t_prism.print("prisms");
     return 0;
   } catch (const std::exception& e) {
