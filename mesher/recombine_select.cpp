@@ -1,6 +1,10 @@
 #include "mesher/recombine_select.hpp"
 
 #include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 
 #include "mesher/mesh/error.hpp"
 #include "mesher/recombine_rules.hpp"
@@ -43,6 +47,11 @@ bool rules_conflict(const Candidate& a, const Candidate& b) {
   return index.conflicts(la);
 }
 
+struct Blockers {
+  int n = 0;
+  std::int32_t e[2] = {-1, -1};
+};
+
 // The elements placed so far, by a stable id (dead ones stay listed), with the tet -> element
 // and vertex -> elements maps the conflict queries need.
 struct Placement {
@@ -72,28 +81,33 @@ struct Placement {
       list.erase(std::find(list.begin(), list.end(), id));
     }
   }
-  // The alive elements c conflicts with, ignoring `gone`: returns 0, 1 (in out) or 2 (two or
-  // more). Tets first: that answer costs no rule check.
-  int conflicts(const Candidate& c, std::int32_t& out, std::int32_t gone,
-                std::vector<std::int32_t>& seen) const {
-    int n = 0;
-    out = -1;
-    auto found = [&](std::int32_t e) {
-      if (e == gone || (n == 1 && e == out)) return false;
-      if (n++ == 0) out = e;
-      return n == 2;
+  // The alive elements c conflicts with, ignoring gone0 and gone1: b.n = 0, 1 or 2 (in b.e),
+  // 3 for three or more. Tets first: that answer costs no rule check.
+  Blockers blockers(const Candidate& c, std::int32_t gone0, std::int32_t gone1,
+                    std::vector<std::int32_t>& seen) const {
+    Blockers b;
+    auto skip = [&](std::int32_t e) {
+      return e == gone0 || e == gone1 || (b.n >= 1 && e == b.e[0]) || (b.n == 2 && e == b.e[1]);
+    };
+    auto found = [&](std::int32_t e) {  // true when the answer is known: three or more
+      if (b.n == 2) {
+        b.n = 3;
+        return true;
+      }
+      b.e[b.n++] = e;
+      return false;
     };
     for (std::int32_t t : c.tets)
-      if (t >= 0 && owner[t] >= 0 && found(owner[t])) return 2;
+      if (t >= 0 && owner[t] >= 0 && !skip(owner[t]) && found(owner[t])) return b;
     seen.clear();
     for (int i = 0; i < num_nodes(c.kind); ++i)
       for (std::int32_t e : at[c.nodes[i]]) {
-        if (e == gone || (n == 1 && e == out)) continue;
-        if (std::find(seen.begin(), seen.end(), e) != seen.end()) continue;
+        if (skip(e) || std::find(seen.begin(), seen.end(), e) != seen.end()) continue;
         seen.push_back(e);
-        if (rules_conflict(c, elems[e]) && found(e)) return 2;
+        if (rules_conflict(c, elems[e]) && found(e)) return b;
       }
-    return n;
+    if (b.n == 2 && b.e[0] > b.e[1]) std::swap(b.e[0], b.e[1]);
+    return b;
   }
 };
 
@@ -103,8 +117,40 @@ bool compatible(const Candidate& a, const Candidate& b) {
   return !share_tet(a, b) && !rules_conflict(a, b);
 }
 
+namespace {
+
+// The largest set of pairwise compatible candidates among L (pool indices, best first) that
+// the best-first completion of one start finds; the first start wins ties. In `best`, as
+// indices into L.
+void choose_compatible(const std::vector<Candidate>& pool, const std::vector<std::int32_t>& L,
+                       std::vector<std::int32_t>& best) {
+  const std::size_t m = L.size();
+  std::vector<char> ok(m * m, 0);
+  for (std::size_t a = 0; a < m; ++a)
+    for (std::size_t b = a + 1; b < m; ++b)
+      ok[a * m + b] = ok[b * m + a] = compatible(pool[L[a]], pool[L[b]]);
+  best.clear();
+  std::vector<std::int32_t> cur;
+  for (std::size_t a = 0; a < m; ++a) {
+    cur.assign(1, static_cast<std::int32_t>(a));
+    for (std::size_t b = 0; b < m; ++b) {
+      if (b == a) continue;
+      bool fits = true;
+      for (std::int32_t x : cur) fits = fits && ok[static_cast<std::size_t>(x) * m + b];
+      if (fits) cur.push_back(static_cast<std::int32_t>(b));
+    }
+    if (cur.size() > best.size()) best = cur;
+  }
+}
+
+}  // namespace
+
 SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& cands,
-                            const SwapOptions& o) {
+                            const SwapOptions& o_in) {
+  SwapOptions o = o_in;
+  if (const char* e = std::getenv("HEXFEM_SWAP_QMIN")) o.min_quality = std::atof(e);
+  if (const char* e = std::getenv("HEXFEM_SWAP_ROUNDS")) o.max_rounds = std::atoi(e);
+  const auto Tstart = std::chrono::steady_clock::now();
   SwapReport rep;
   const TetTopology& topo = s.topo;
   Placement p;
@@ -127,11 +173,23 @@ SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& can
     fills.assign(chunk.size(), 0);
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t k = 0; k < count; ++k)
-      fills[k] = fills_element(topo, chunk[k], nullptr, s.limits.fill);
+      fills[k] = chunk[k].quality >= o.min_quality &&
+                 fills_element(topo, chunk[k], nullptr, s.limits.fill);
     for (std::ptrdiff_t k = 0; k < count; ++k)
       if (fills[k]) pool.push_back(chunk[k]);
   }
   rep.fillable = pool.size();
+  const bool dbg = std::getenv("HEXFEM_SWAP_DEBUG");
+  auto T0 = Tstart;
+  auto lap = [&](const char* what) {
+    if (!dbg) return;
+    auto t1 = std::chrono::steady_clock::now();
+    std::fprintf(stderr, "swap: %s %.3f s (swaps %zu removed %zu inserted %zu)\n", what,
+                 std::chrono::duration<double>(t1 - T0).count(), rep.swaps, rep.removed,
+                 rep.inserted);
+    T0 = t1;
+  };
+  lap("fill");
   // Which of them greedy placed; the others count only above the swap's quality floor.
   std::vector<std::int32_t> in(pool.size(), -1);
   std::vector<char> eligible(pool.size(), 0);
@@ -155,79 +213,131 @@ SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& can
     ++rep.removed;
   };
 
-  std::vector<std::int32_t> tight(pool.size());
-  std::vector<std::int8_t> num(pool.size());
+  // The candidates at each vertex, to find those whose blockers a change may have changed
+  // (an element blocks a candidate only when they share a tet or two vertices).
+  std::vector<std::int32_t> pool_first(p.at.size() + 1, 0), pool_at;
+  for (const Candidate& c : pool)
+    for (int i = 0; i < num_nodes(c.kind); ++i) ++pool_first[c.nodes[i] + 1];
+  for (std::size_t v = 0; v < p.at.size(); ++v) pool_first[v + 1] += pool_first[v];
+  pool_at.resize(pool_first.back());
+  {
+    std::vector<std::int32_t> fill_at(pool_first.begin(), pool_first.end() - 1);
+    for (std::size_t i = 0; i < pool.size(); ++i)
+      for (int k = 0; k < num_nodes(pool[i].kind); ++k)
+        pool_at[fill_at[pool[i].nodes[k]]++] = static_cast<std::int32_t>(i);
+  }
+  std::vector<std::int32_t> dirty(pool.size());
+  for (std::size_t i = 0; i < pool.size(); ++i) dirty[i] = static_cast<std::int32_t>(i);
+  std::vector<char> marked(pool.size(), 0);
+  std::vector<std::int32_t> touched;  // vertices of the elements put in or taken out
+  auto touch = [&](const Candidate& c) {
+    for (int k = 0; k < num_nodes(c.kind); ++k) touched.push_back(c.nodes[k]);
+  };
+
+  std::vector<Blockers> block(pool.size());
   std::vector<std::int32_t> seen;
-  for (int round = 0; round < o.max_rounds; ++round) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> one;  // (blocker, candidate)
+  std::vector<std::array<std::int32_t, 3>> two;            // (blocker, blocker, candidate)
+  std::vector<std::int32_t> L, best;
+  // Puts in best (indices into L) in place of the elements `out` when each is still blocked by
+  // those alone and at least `need` remain.
+  auto try_swap = [&](std::int32_t g0, std::int32_t g1, std::size_t need) {
+    std::erase_if(best, [&](std::int32_t x) {
+      return in[L[x]] >= 0 || p.blockers(pool[L[x]], g0, g1, seen).n != 0;
+    });
+    if (best.size() < need) return false;
+    for (std::int32_t g : {g0, g1})
+      if (g >= 0) {
+        touch(p.elems[g]);
+        remove(g);
+      }
+    for (std::int32_t x : best) {
+      insert(static_cast<std::size_t>(L[x]));
+      touch(pool[L[x]]);
+    }
+    ++rep.swaps;
+    return true;
+  };
+  auto range_of = [&](std::int32_t P) {
+    auto lo = std::lower_bound(one.begin(), one.end(), std::pair{P, -1});
+    auto hi = lo;
+    while (hi != one.end() && hi->first == P) ++hi;
+    return std::pair{lo, hi};
+  };
+
+  for (int round = 0; round < o.max_rounds && !dirty.empty(); ++round) {
     ++rep.rounds;
-    // Every free candidate's conflicts with the placed elements (read-only, all threads).
-    const auto np = static_cast<std::ptrdiff_t>(pool.size());
+    // The blockers of the candidates whose neighbourhood changed (read-only, all threads).
+    const auto nd = static_cast<std::ptrdiff_t>(dirty.size());
 #pragma omp parallel
     {
       std::vector<std::int32_t> seen_local;
 #pragma omp for schedule(dynamic, 1024)
-      for (std::ptrdiff_t i = 0; i < np; ++i) {
-        num[i] = 2;
-        if (in[i] < 0 && eligible[i])
-          num[i] = static_cast<std::int8_t>(p.conflicts(pool[i], tight[i], -1, seen_local));
+      for (std::ptrdiff_t k = 0; k < nd; ++k) {
+        const std::int32_t i = dirty[k];
+        block[i] = Blockers{3, {-1, -1}};
+        if (in[i] < 0 && eligible[i]) block[i] = p.blockers(pool[i], -1, -1, seen_local);
       }
     }
-    std::size_t changes = 0;
-    // Candidates with no conflict left (room a swap freed): put in, best first, each checked
+    lap("conflicts");
+    touched.clear();
+    // Candidates blocked by nothing (room a swap freed): put in, best first, each checked
     // against what was put in before it.
-    std::int32_t dummy;
     for (std::size_t i = 0; i < pool.size(); ++i)
-      if (num[i] == 0 && p.conflicts(pool[i], dummy, -1, seen) == 0) {
+      if (block[i].n == 0 && in[i] < 0 && p.blockers(pool[i], -1, -1, seen).n == 0) {
         insert(i);
-        ++changes;
+        touch(pool[i]);
       }
-    // Candidates blocked by one element only, grouped by that element (best first within).
-    std::vector<std::pair<std::int32_t, std::int32_t>> groups;
-    for (std::size_t i = 0; i < pool.size(); ++i)
-      if (num[i] == 1) groups.push_back({tight[i], static_cast<std::int32_t>(i)});
-    std::sort(groups.begin(), groups.end());
-    std::vector<std::int32_t> L, best, cur;
-    std::vector<char> ok;
-    for (std::size_t g = 0; g < groups.size();) {
-      std::size_t ge = g;
-      while (ge < groups.size() && groups[ge].first == groups[g].first) ++ge;
-      const std::int32_t P = groups[g].first;
-      L.clear();
-      for (std::size_t k = g; k < ge && L.size() < o.max_partners; ++k)
-        L.push_back(groups[k].second);
-      g = ge;
-      if (L.size() < 2 || !p.alive[P]) continue;
-      // Pairwise compatibility, then from each start the best-first maximal compatible set;
-      // the largest wins (the first on ties).
-      const std::size_t m = L.size();
-      ok.assign(m * m, 0);
-      for (std::size_t a = 0; a < m; ++a)
-        for (std::size_t b = a + 1; b < m; ++b)
-          ok[a * m + b] = ok[b * m + a] = compatible(pool[L[a]], pool[L[b]]);
-      best.clear();
-      for (std::size_t a = 0; a < m; ++a) {
-        cur.assign(1, static_cast<std::int32_t>(a));
-        for (std::size_t b = 0; b < m; ++b) {
-          if (b == a) continue;
-          bool fits = true;
-          for (std::int32_t x : cur) fits = fits && ok[static_cast<std::size_t>(x) * m + b];
-          if (fits) cur.push_back(static_cast<std::int32_t>(b));
-        }
-        if (cur.size() > best.size()) best = cur;
-      }
-      if (best.size() < 2) continue;
-      // Still blocked by P alone, now that earlier swaps of this round are done?
-      std::erase_if(best, [&](std::int32_t x) {
-        std::int32_t other;
-        return in[L[x]] >= 0 || p.conflicts(pool[L[x]], other, P, seen) != 0;
-      });
-      if (best.size() < 2) continue;
-      remove(P);
-      for (std::int32_t x : best) insert(static_cast<std::size_t>(L[x]));
-      ++rep.swaps;
-      ++changes;
+    // 1-for-k: the candidates blocked by one element only, grouped by it (best first within).
+    one.clear();
+    two.clear();
+    for (std::size_t i = 0; i < pool.size(); ++i) {
+      const auto ii = static_cast<std::int32_t>(i);
+      if (block[i].n == 1) one.push_back({block[i].e[0], ii});
+      if (block[i].n == 2) two.push_back({block[i].e[0], block[i].e[1], ii});
     }
-    if (!changes) break;
+    std::sort(one.begin(), one.end());
+    std::sort(two.begin(), two.end());
+    for (auto g = one.begin(); g != one.end();) {
+      const std::int32_t P = g->first;
+      const auto [lo, hi] = range_of(P);
+      g = hi;
+      if (hi - lo < 2 || !p.alive[P]) continue;
+      L.clear();
+      for (auto it = lo; it != hi && L.size() < o.max_partners; ++it) L.push_back(it->second);
+      choose_compatible(pool, L, best);
+      if (best.size() >= 2) try_swap(P, -1, 2);
+    }
+    // 2-for-k (k >= 3): the candidates blocked by a pair of elements, with those blocked by
+    // either alone.
+    for (std::size_t g = 0; o.pair_swaps && g < two.size();) {
+      const std::int32_t P0 = two[g][0], P1 = two[g][1];
+      L.clear();
+      for (; g < two.size() && two[g][0] == P0 && two[g][1] == P1; ++g)
+        if (L.size() < o.max_pair_partners) L.push_back(two[g][2]);
+      if (!p.alive[P0] || !p.alive[P1]) continue;
+      for (std::int32_t P : {P0, P1}) {
+        const auto [lo, hi] = range_of(P);
+        for (auto it = lo; it != hi && it - lo < static_cast<std::ptrdiff_t>(o.max_pair_partners);
+             ++it)
+          L.push_back(it->second);
+      }
+      if (L.size() < 3) continue;
+      std::sort(L.begin(), L.end());  // best first
+      choose_compatible(pool, L, best);
+      if (best.size() >= 3) try_swap(P0, P1, 3);
+    }
+    // The next round looks again only at the candidates around what changed.
+    dirty.clear();
+    for (std::int32_t v : touched)
+      for (std::int32_t k = pool_first[v]; k < pool_first[v + 1]; ++k)
+        if (!marked[pool_at[k]]) {
+          marked[pool_at[k]] = 1;
+          dirty.push_back(pool_at[k]);
+        }
+    std::sort(dirty.begin(), dirty.end());
+    for (std::int32_t i : dirty) marked[i] = 0;
+    lap("round");
   }
 
   // Back into the state: the greedy elements still there in their order, then the new ones.

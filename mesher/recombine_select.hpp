@@ -26,9 +26,11 @@ enum class HexSelection { kGreedy, kSwap };
 HexSelection parse_hex_selection(const std::string& name);
 
 struct SwapOptions {
-  int max_rounds = 6;             // passes over all candidates; stops earlier without a swap
-  double min_quality = 0;         // candidates below this min scaled Jacobian are not put in
-  std::size_t max_partners = 24;  // best-first candidates tried per element taken out
+  int max_rounds = 6;                 // passes over all candidates; stops earlier without a swap
+  double min_quality = 0;             // candidates below this min scaled Jacobian are not put in
+  std::size_t max_partners = 24;      // best-first candidates tried per element taken out
+  bool pair_swaps = true;             // also 2-for-k (k >= 3) swaps
+  std::size_t max_pair_partners = 8;  // per pair: blocked by both, and by each alone
 };
 
 struct SwapReport {
