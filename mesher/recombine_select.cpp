@@ -2,9 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
 
 #include "mesher/mesh/error.hpp"
 #include "mesher/recombine_rules.hpp"
@@ -42,7 +39,11 @@ bool rules_conflict(const Candidate& a, const Candidate& b) {
   for (int i = 0; i < na; ++i) la.nodes[i] = local(a.nodes[i]);
   for (int i = 0; i < nb; ++i) lb.nodes[i] = local(b.nodes[i]);
   if (n > na + nb - 2) return false;  // every rule needs two shared vertices
-  ConformityIndex index;
+  // One small index per thread, emptied by copying an empty one (which keeps the vectors'
+  // memory): this check runs millions of times.
+  static const ConformityIndex kEmpty;
+  thread_local ConformityIndex index;
+  index = kEmpty;
   index.add(lb);
   return index.conflicts(la);
 }
@@ -146,11 +147,7 @@ void choose_compatible(const std::vector<Candidate>& pool, const std::vector<std
 }  // namespace
 
 SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& cands,
-                            const SwapOptions& o_in) {
-  SwapOptions o = o_in;
-  if (const char* e = std::getenv("HEXFEM_SWAP_QMIN")) o.min_quality = std::atof(e);
-  if (const char* e = std::getenv("HEXFEM_SWAP_ROUNDS")) o.max_rounds = std::atoi(e);
-  const auto Tstart = std::chrono::steady_clock::now();
+                            const SwapOptions& o) {
   SwapReport rep;
   const TetTopology& topo = s.topo;
   Placement p;
@@ -179,17 +176,6 @@ SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& can
       if (fills[k]) pool.push_back(chunk[k]);
   }
   rep.fillable = pool.size();
-  const bool dbg = std::getenv("HEXFEM_SWAP_DEBUG");
-  auto T0 = Tstart;
-  auto lap = [&](const char* what) {
-    if (!dbg) return;
-    auto t1 = std::chrono::steady_clock::now();
-    std::fprintf(stderr, "swap: %s %.3f s (swaps %zu removed %zu inserted %zu)\n", what,
-                 std::chrono::duration<double>(t1 - T0).count(), rep.swaps, rep.removed,
-                 rep.inserted);
-    T0 = t1;
-  };
-  lap("fill");
   // Which of them greedy placed; the others count only above the swap's quality floor.
   std::vector<std::int32_t> in(pool.size(), -1);
   std::vector<char> eligible(pool.size(), 0);
@@ -279,7 +265,6 @@ SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& can
         if (in[i] < 0 && eligible[i]) block[i] = p.blockers(pool[i], -1, -1, seen_local);
       }
     }
-    lap("conflicts");
     touched.clear();
     // Candidates blocked by nothing (room a swap freed): put in, best first, each checked
     // against what was put in before it.
@@ -337,7 +322,6 @@ SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& can
         }
     std::sort(dirty.begin(), dirty.end());
     for (std::int32_t i : dirty) marked[i] = 0;
-    lap("round");
   }
 
   // Back into the state: the greedy elements still there in their order, then the new ones.
