@@ -46,14 +46,14 @@ struct Placed {
   std::vector<Candidate> elements;
   SwapReport report;
 };
-Placed place(const Lattice& L, bool swap) {
+Placed place(const Lattice& L, bool swap, const SwapOptions& options = {}) {
   const TetTopology topo(L.tets, L.surface);
   std::vector<Candidate> cands = enumerate_hexes(topo, HexOptions{});
   RecombineState state(topo, RecombineLimits{});
   ConformityIndex index;
   Placed P;
   P.greedy = place_greedily(state, cands, index);
-  if (swap) P.report = improve_by_swaps(state, cands);
+  if (swap) P.report = improve_by_swaps(state, cands, options);
   EXPECT_NO_THROW(state.verify());
   ConformityIndex fresh;
   std::vector<char> seen(state.used.size(), 0);
@@ -79,6 +79,21 @@ std::set<std::int32_t> nodes_of(const Candidate& c) {
   return {c.nodes.begin(), c.nodes.begin() + 8};
 }
 
+// The node sets of the n unit cubes of an n x 1 x 1 lattice (cube i: nodes with x in [i, i + 1]).
+std::set<std::set<std::int32_t>> lattice_cubes(int n) {
+  const MixedMesh box = make_box_mesh({1.0 * n, 1.0, 1.0}, n, 1, 1, CellKind::Tet4);
+  std::set<std::set<std::int32_t>> cubes;
+  for (int cube = 0; cube < n; ++cube) {
+    std::set<std::int32_t> s;
+    for (std::size_t v = 0; v < box.nodes.size(); ++v)
+      if (box.nodes[v][0] >= cube - 1e-9 && box.nodes[v][0] <= cube + 1 + 1e-9)
+        s.insert(static_cast<std::int32_t>(v));
+    EXPECT_EQ(s.size(), 8u);
+    cubes.insert(s);
+  }
+  return cubes;
+}
+
 TEST(HexSelection, OneForTwoSwapOnAShearedPairOfCubes) {
   // Two unit cubes side by side in x, six Kuhn tets each, sheared by x' = x - z: the lattice's
   // cubes become parallelepipeds (scaled Jacobian 1/sqrt 2) and the parallelepiped made of the
@@ -98,16 +113,7 @@ TEST(HexSelection, OneForTwoSwapOnAShearedPairOfCubes) {
   EXPECT_EQ(s.report.removed, 1u);
   EXPECT_EQ(s.report.inserted, 2u);
   // The two lattice cubes, by the unsheared x of their nodes: {0, 1} and {1, 2}.
-  const MixedMesh box = make_box_mesh({2.0, 1.0, 1.0}, 2, 1, 1, CellKind::Tet4);
-  std::set<std::set<std::int32_t>> expected;
-  for (int cube = 0; cube < 2; ++cube) {
-    std::set<std::int32_t> n;
-    for (std::size_t v = 0; v < box.nodes.size(); ++v)
-      if (box.nodes[v][0] >= cube - 1e-9 && box.nodes[v][0] <= cube + 1 + 1e-9)
-        n.insert(static_cast<std::int32_t>(v));
-    ASSERT_EQ(n.size(), 8u);
-    expected.insert(n);
-  }
+  const auto expected = lattice_cubes(2);
   std::set<std::set<std::int32_t>> got;
   for (const Candidate& e : s.elements) {
     got.insert(nodes_of(e));
@@ -119,6 +125,28 @@ TEST(HexSelection, OneForTwoSwapOnAShearedPairOfCubes) {
   EXPECT_EQ(got, expected);
   // The two lattice cubes share their whole x = 1 face: conformal, no rule broken.
   EXPECT_TRUE(compatible(s.elements[0], s.elements[1]));
+}
+
+TEST(HexSelection, TwoForThreeSwapOnAShearedRowOfThreeCubes) {
+  // Three cubes sheared the same way: greedy makes the two unit cubes across cubes 1-2 and 2-3
+  // (they share a whole face) and leaves a half cube at each end: two hexes. No single one of
+  // them blocks two lattice cubes (cube 1 is blocked by the first alone, cube 3 by the second,
+  // cube 2 by both), so only the 2-for-3 swap finds the three lattice cubes.
+  const Lattice L = lattice_of_tets(3, 1, 1, [](Vec3 x) { return Vec3{x[0] - x[2], x[1], x[2]}; });
+  const Placed g = place(L, false);
+  ASSERT_EQ(g.elements.size(), 2u);
+  for (const Candidate& e : g.elements) EXPECT_FLOAT_EQ(e.quality, 1.0f);
+  const Placed s = place(L, true);
+  ASSERT_EQ(s.elements.size(), 3u);
+  EXPECT_EQ(s.report.swaps, 1u);
+  EXPECT_EQ(s.report.removed, 2u);
+  EXPECT_EQ(s.report.inserted, 3u);
+  std::set<std::set<std::int32_t>> got;
+  for (const Candidate& e : s.elements) got.insert(nodes_of(e));
+  EXPECT_EQ(got, lattice_cubes(3));
+  SwapOptions one_for_k;
+  one_for_k.pair_swaps = false;
+  EXPECT_EQ(place(L, true, one_for_k).elements.size(), 2u);
 }
 
 TEST(HexSelection, UnshearedCubesNeedNoSwap) {
