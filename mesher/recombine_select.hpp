@@ -26,8 +26,13 @@ enum class HexSelection { kGreedy, kSwap };
 HexSelection parse_hex_selection(const std::string& name);
 
 struct SwapOptions {
-  int max_rounds = 6;                 // passes over all candidates; stops earlier without a swap
-  double min_quality = 0;             // candidates below this min scaled Jacobian are not put in
+  // Passes; each after the first looks only around what the one before changed, and the last
+  // finds none (ANC101 h = 4.5: 15 rounds, most of the gain in the first 3).
+  int max_rounds = 30;
+  // Candidates below this min scaled Jacobian are not put in: fewer fill tests (ANC101 h = 4.5:
+  // swap stage 1.6 s instead of 3.1 s) and a mean Q that drops less (0.952 vs 0.951), for
+  // H_nbr 68.40 vs 68.60 %.
+  double min_quality = 0.5;
   std::size_t max_partners = 24;      // best-first candidates tried per element taken out
   bool pair_swaps = true;             // also 2-for-k (k >= 3) swaps
   std::size_t max_pair_partners = 8;  // per pair: blocked by both, and by each alone
