@@ -31,6 +31,7 @@ struct MeshArgs {
   int curvature = 0;
   std::vector<std::string> size_at;
   VolumeOptions volume;  // --dim 3 only
+  std::string hex_selection = "greedy";
   bool binary = false;
 };
 
@@ -70,6 +71,7 @@ int run(const MeshArgs& a) {
     v.file = a.file;
     v.options.surface = opt;
     v.options.volume = a.volume;
+    v.options.volume.hex_selection = parse_hex_selection(a.hex_selection);
     v.output = a.output;
     v.json = a.json;
     v.binary = a.binary;
@@ -182,6 +184,9 @@ RegisterCommand reg{
                     "splitting its cell");
        sub.add_option("--nc-hex-gain", a->volume.nc_hex_gain,
                       "a hex goes back to tets when that removes at least this many NC faces");
+       sub.add_option("--hex-selection", a->hex_selection,
+                      "greedy (paper: best first) or swap (then 1-for-k swaps of hexes)")
+           ->check(CLI::IsMember({"greedy", "swap"}));
        sub.add_flag("--nearest-frame{false}", a->volume.inherit_frame,
                     "interior points take the nearest surface vertex's frame (paper) instead of "
                     "their front's (study)");

@@ -47,6 +47,12 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
   j["candidates"] = {{"hex8", r.hex_candidates},
                      {"wedge6", r.prism_candidates},
                      {"pyramid5", r.pyramid_candidates}};
+  if (r.hex_swaps.rounds > 0)
+    j["hex_swaps"] = {{"fillable", r.hex_swaps.fillable},
+                      {"rounds", r.hex_swaps.rounds},
+                      {"swaps", r.hex_swaps.swaps},
+                      {"removed", r.hex_swaps.removed},
+                      {"inserted", r.hex_swaps.inserted}};
   j["h_nbr_percent"] = r.stats.h_nbr;
   j["h_vol_percent"] = r.stats.h_vol;
   j["q_mean"] = r.stats.q_mean;

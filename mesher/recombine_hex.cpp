@@ -139,6 +139,15 @@ SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions
       });
 }
 
+std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOptions& options) {
+  const SortedRuns<HexCorners> runs = enumerate_hexes(topo, options);
+  std::vector<Candidate> list;
+  list.reserve(runs.size());
+  RunMerger<HexCorners> merger(runs);
+  while (const HexCorners* h = merger.next()) list.push_back(h->candidate());
+  return list;
+}
+
 std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
                                  ConformityIndex& index, std::size_t* candidates) {
   // The greedy order in bands of quality, best first: the best band is found and placed first;

@@ -41,6 +41,10 @@ SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions
                                        const QualityBand& band = {},
                                        const std::vector<char>* used = nullptr);
 
+// Every candidate hex as one list, best first (for studies of the selection: the pipeline places
+// them band by band instead).
+std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOptions& options);
+
 // The paper's greedy placement of every candidate hex, best first, into s (place_greedily),
 // band by band; adds the number of candidates enumerated to *candidates. Returns the hexes
 // placed.

@@ -16,6 +16,7 @@
 #include "mesher/recombine_conformity.hpp"
 #include "mesher/recombine_hex.hpp"
 #include "mesher/recombine_prism_pyramid.hpp"
+#include "mesher/recombine_select.hpp"
 #include "mesher/solid_locator.hpp"
 #include "mesher/tetrahedralize.hpp"
 #include "mesher/volume_gap.hpp"
@@ -64,13 +65,23 @@ VolumePoints insert_points(const SurfaceMesh& surface, const FrameField3D& field
 
 // Paper: hexes first, best quality first, under the conformity rules; the index stays for the
 // prisms.
-void place_hexes(RecombineState& s, ConformityIndex& index, VolumeReport& r) {
+void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selection,
+                 StageTimer& timer, VolumeReport& r) {
   index.reserve(s.used.size() / 6);  // at most one hex per six tets, about
   HexOptions ho;
   ho.min_quality = s.limits.min_quality;
   ho.fill = s.limits.fill;
   r.hex_candidates = 0;
   place_hexes_greedily(s, ho, index, &r.hex_candidates);
+  if (selection != HexSelection::kSwap) return;
+  r.stages.push_back(timer.lap("hexes"));
+  // The swaps look at every candidate, placeable or not: the whole list, found again.
+  r.hex_swaps = improve_by_swaps(s, hex_candidate_list(s.topo, ho));
+  // The index has no removal: rebuilt from the elements kept and put in.
+  index = ConformityIndex{};
+  index.reserve(s.used.size() / 6);
+  for (const Candidate& e : s.elements) index.add(e);
+  r.stages.push_back(timer.lap("hex swaps"));
 }
 
 // Then prisms from the free tets, and the slivers between two elements' faces or under a
@@ -264,8 +275,8 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   RecombineState s(topo, recombine_limits(options));
   r.stages.push_back(timer.lap("tet topology"));
   ConformityIndex index;
-  place_hexes(s, index, r);
-  r.stages.push_back(timer.lap("hexes"));
+  place_hexes(s, index, options.hex_selection, timer, r);
+  if (options.hex_selection == HexSelection::kGreedy) r.stages.push_back(timer.lap("hexes"));
   place_prisms(s, index, options, r);
   r.stages.push_back(timer.lap("prisms"));
   place_pyramids_and_slivers(s, options, r);

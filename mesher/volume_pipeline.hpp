@@ -15,6 +15,7 @@
 #include "mesher/conformal.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
+#include "mesher/recombine_select.hpp"
 #include "mesher/stage_timer.hpp"
 #include "mesher/surface_mesh.hpp"
 
@@ -54,6 +55,10 @@ struct VolumeOptions {
   int nc_hex_gain = 2;
   // --conformal: after assembly, every NC quad made conformal with real elements (conformal.hpp).
   bool conformal = false;
+  // --hex-selection: the paper's greedy best-first pass alone, or followed by 1-for-k swaps on
+  // the candidates' conflict graph (recombine_select.hpp). Greedy by default (issue 16 figures
+  // in recombine_select.hpp).
+  HexSelection hex_selection = HexSelection::kGreedy;
 };
 
 struct VolumeReport {
@@ -75,6 +80,7 @@ struct VolumeReport {
   // cell (the flat-cell fallback; 0 when it did not run).
   std::size_t flat_fallback_undone = 0;
   std::size_t hex_candidates = 0, prism_candidates = 0, pyramid_candidates = 0;
+  SwapReport hex_swaps;  // --hex-selection swap: what the swaps did (zeros without)
   std::size_t boundary_triangles = 0, boundary_quads = 0;
   // gap = |V(mixed) - V(tets)| / V(tets), V(mixed) = stats.volume.
   double volume_tets = 0, volume_rel_gap = 0;
