@@ -82,6 +82,10 @@ bool TetTopology::adjacent(std::int32_t a, std::int32_t b) const {
 }
 
 std::int32_t TetTopology::surface_triangle(std::int32_t a, std::int32_t b, std::int32_t c) const {
+  // A triangle with an interior vertex is not on the surface: most queries end here, without a
+  // hash lookup.
+  const auto ns = static_cast<std::int32_t>(num_surface_);
+  if (a >= ns || b >= ns || c >= ns) return -1;
   const std::int32_t* t = surface_tri_.find(tri_key(a, b, c));
   return t ? *t : -1;
 }
