@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "mesher/frame_field_3d.hpp"
+#include "mesher/frame_field_smooth.hpp"
 #include "mesher/solid_locator.hpp"
 #include "mesher/surface_mesh.hpp"
 
@@ -34,6 +35,10 @@ struct VolumePointsOptions {
   // Frame of a point: the one its front started from (true), or the nearest surface vertex's
   // (false: the paper's rule). The size is always the nearest surface vertex's.
   bool inherit_frame = true;
+  // Frame of a point: the smooth field's at its position (frame_field_smooth.hpp), built here
+  // from the surface frames; overrides inherit_frame. Off by default (issue 16 study).
+  bool smooth_frame = false;
+  SmoothFrameOptions smooth;
 };
 
 struct VolumePoints {
@@ -41,6 +46,7 @@ struct VolumePoints {
   std::vector<std::int32_t> solid;  // solid id of each point
   std::size_t candidates = 0;       // candidates examined
   std::size_t frontal_count = 0;    // random mode: the frontal run's count it aimed at
+  double smooth_field_seconds = 0;  // smooth_frame: building the field
 };
 
 VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D& field,
