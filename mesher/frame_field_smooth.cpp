@@ -203,11 +203,11 @@ SmoothFrameField::SmoothFrameField(const SurfaceMesh& surface, const FrameField3
       const Quartic q0 = frame_quartic(frames_[i]);
       for (int m = 0; m < 15; ++m) guess(row, m) = q0[m];
     }
-    Eigen::SparseMatrix<double> a(nf, nf);
-    a.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SparseMatrix<double> lap(nf, nf);
+    lap.setFromTriplets(triplets.begin(), triplets.end());
     Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
     cg.setTolerance(1e-8);
-    cg.compute(a);
+    cg.compute(lap);
     const Eigen::MatrixXd x = cg.solveWithGuess(rhs, guess);
     solver_iterations_ = static_cast<int>(cg.iterations());
     const auto snf = static_cast<std::ptrdiff_t>(num_free_);

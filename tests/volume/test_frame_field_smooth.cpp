@@ -78,18 +78,19 @@ TEST(FrameFieldSmooth, BoxGivesTheAxesEverywhere) {
   const SmoothFrameField smooth(s, field, loc);
   ASSERT_GT(smooth.num_free(), 50u);
   for (std::size_t i = 0; i < smooth.num_nodes(); ++i)
-    ASSERT_LT(frame_angle(smooth.node_frame(i), kAxes), 1e-9) << i;
+    ASSERT_LT(frame_angle(smooth.node_frame(i), kAxes), 1e-6) << i;  // acos near 1
   for (double x : {0.1, 1.37, 2.0, 3.9})
     for (double z : {0.05, 0.8, 1.5}) {
       const Frame f = smooth.at({x, 1.1, z});
       expect_orthonormal(f);
-      EXPECT_LT(frame_angle(f, kAxes), 1e-9);
+      EXPECT_LT(frame_angle(f, kAxes), 1e-6);
     }
 }
 
 // Cylinder: the boundary frames are (tangential, axial, radial) on the side and (radial,
 // tangential, axial) on the caps; the harmonic extension of r^4 e^{4 i theta} keeps that
-// direction, so away from the axis (a singular line) the field is the cylindrical frame.
+// direction, so away from the axis (a singular line, whose discrete error reaches 10 degrees
+// up to r = 0.45 R on this grid) the field is the cylindrical frame.
 TEST(FrameFieldSmooth, CylinderGivesTheCylindricalFrame) {
   const double R = 1.0, H = 1.2, h = 0.1;
   const SurfaceMesh s = synthetic::cylinder_surface(R, H, h);
@@ -103,7 +104,7 @@ TEST(FrameFieldSmooth, CylinderGivesTheCylindricalFrame) {
     const Vec3 p = smooth.node_position(i);
     const double r = std::hypot(p[0], p[1]);
     expect_orthonormal(smooth.node_frame(i));
-    if (r < 0.35 * R) continue;
+    if (r < 0.5 * R) continue;
     const Frame cyl{Vec3{p[0] / r, p[1] / r, 0}, Vec3{-p[1] / r, p[0] / r, 0}, Vec3{0, 0, 1}};
     EXPECT_LT(frame_angle(smooth.node_frame(i), cyl), 6 * kDeg) << p[0] << " " << p[1];
     ++checked;
@@ -153,8 +154,20 @@ TEST(FrameFieldSmooth, TurnedEndFacesGiveAContinuousTurn) {
   EXPECT_LT(worst_smooth, 12 * kDeg);
   EXPECT_LT(frame_angle(smooth.at({2.0, 0.5, 0.5}), kAxes), 0.5 * kDeg);
   EXPECT_LT(frame_angle(smooth.at({2.0, 0.3, 0.6}), kAxes), 0.5 * kDeg);
-  // Near an end face's center, the turned frame dominates.
-  EXPECT_LT(frame_angle(smooth.at({0.15, 0.5, 0.5}), compose(turn, kAxes)), 10 * kDeg);
+  // Along the axis from an end face: a turn about x only, decreasing from most of 30 degrees
+  // (the side faces pull the rest) to none.
+  double previous = 90 * kDeg;
+  for (double x = 0.1; x < 1.5; x += 0.1) {
+    const Frame f = smooth.at({x, 0.5, 0.5});
+    double along_x = 0;
+    for (const Vec3& e : f) along_x = std::max(along_x, std::abs(e[0]));
+    EXPECT_NEAR(along_x, 1.0, 1e-9);
+    const double angle = frame_angle(f, kAxes);
+    EXPECT_LE(angle, previous + 1e-9) << x;
+    if (x < 0.15) EXPECT_GT(angle, 15 * kDeg);
+    previous = angle;
+  }
+  EXPECT_LT(previous, 1 * kDeg);
 }
 
 // On a box the smooth field is the axes: the frontal points are the same lattice as with the
