@@ -52,6 +52,15 @@ void expect_orthonormal(const Frame& f) {
 
 const Frame kAxes{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
 
+// A grid of one size per cell, the nodes within one size of the surface fixed: fine enough to
+// compare the field with the cylinder's and the turned box's known shapes.
+SmoothFrameOptions fine() {
+  SmoothFrameOptions o;
+  o.cell = 1;
+  o.fixed_distance = 1;
+  return o;
+}
+
 TEST(FrameFieldSmooth, QuarticIsCubeSymmetricAndProjectsBack) {
   const Frame r = rotation({1, 2, 3}, 0.7);
   const Frame same{r[1], Vec3{-r[0][0], -r[0][1], -r[0][2]}, r[2]};  // a quarter turn about d3
@@ -96,7 +105,7 @@ TEST(FrameFieldSmooth, CylinderGivesTheCylindricalFrame) {
   const SurfaceMesh s = synthetic::cylinder_surface(R, H, h);
   const FrameField3D field(s);
   const SolidLocator loc(s);
-  const SmoothFrameField smooth(s, field, loc);
+  const SmoothFrameField smooth(s, field, loc, fine());
   ASSERT_GT(smooth.num_free(), 300u);
   std::size_t checked = 0;
   for (std::size_t i = 0; i < smooth.num_nodes(); ++i) {
@@ -131,7 +140,7 @@ TEST(FrameFieldSmooth, TurnedEndFacesGiveAContinuousTurn) {
   }
   const FrameField3D field(s);
   const SolidLocator loc(s);
-  const SmoothFrameField smooth(s, field, loc);
+  const SmoothFrameField smooth(s, field, loc, fine());
   const auto d = smooth.dims();
   const std::size_t step[3] = {1, static_cast<std::size_t>(d[0]),
                                static_cast<std::size_t>(d[0]) * d[1]};
@@ -164,7 +173,9 @@ TEST(FrameFieldSmooth, TurnedEndFacesGiveAContinuousTurn) {
     EXPECT_NEAR(along_x, 1.0, 1e-9);
     const double angle = frame_angle(f, kAxes);
     EXPECT_LE(angle, previous + 1e-9) << x;
-    if (x < 0.15) EXPECT_GT(angle, 15 * kDeg);
+    if (x < 0.15) {
+      EXPECT_GT(angle, 15 * kDeg);
+    }
     previous = angle;
   }
   EXPECT_LT(previous, 1 * kDeg);
