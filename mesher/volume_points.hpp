@@ -9,7 +9,9 @@
 // the nearest vertex changes (ANC101 h = 4.5: H_vol +1.1 points, H_nbr +2.0; validation/volume.md).
 // With smooth_frame (--smooth-frame, a study switch) a point's frame is instead the smooth
 // field's at its position (frame_field_smooth.hpp): the fronts turn where walls of different
-// orientations meet (ANC101 h = 4.5: H_nbr 65.96 -> 68.35 %, H_vol 87.82 -> 88.77 %).
+// orientations meet (ANC101 h = 4.5: H_nbr 65.96 -> 68.35 %, H_vol 87.82 -> 88.77 %), but the
+// shared models at diagonal/30 lose on average (H_vol -0.34 points, tie_rod -10.2, cylinder
+// -3.2: on revolved parts the straight lattices grown from the end faces make more hexes).
 //
 // Takes: the SurfaceMesh, the 3D frame field and the locator.
 // Gives: the interior points (VolumePoints).
