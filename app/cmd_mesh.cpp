@@ -190,6 +190,9 @@ RegisterCommand reg{
        sub.add_flag("--nearest-frame{false}", a->volume.inherit_frame,
                     "interior points take the nearest surface vertex's frame (paper) instead of "
                     "their front's (study)");
+       sub.add_flag("--smooth-frame", a->volume.smooth_frame,
+                    "interior points take the frame of a smooth field, the surface frames "
+                    "extended harmonically over a grid (study)");
        sub.add_flag("--random-points", a->volume.random_points,
                     "random interior points instead of frontal ones (study)");
        return [a] { return run(*a); };

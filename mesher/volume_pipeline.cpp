@@ -60,6 +60,7 @@ VolumePoints insert_points(const SurfaceMesh& surface, const FrameField3D& field
   po.seed = o.random_seed;
   po.jitter = o.jitter;
   po.inherit_frame = o.inherit_frame;
+  po.smooth_frame = o.smooth_frame;
   return insert_volume_points(surface, field, locator, po);
 }
 

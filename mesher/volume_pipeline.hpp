@@ -36,6 +36,7 @@ struct VolumeOptions {
   double max_face_twist = 0.2;  // quad faces' distance from planar (FillRules)
   double jitter = 0;            // interior points moved by up to jitter*h (volume_points.hpp)
   bool inherit_frame = true;    // points take their front's frame (volume_points.hpp)
+  bool smooth_frame = false;    // --smooth-frame: the smooth field's frame (frame_field_smooth.hpp)
   // A free tet on an element's quad face with a lower min scaled Jacobian is merged into that
   // element (a sliver between the face's two diagonals).
   double flat_tet_quality = 0.02;

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <boost/geometry.hpp>
 #include <boost/geometry/index/rtree.hpp>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -73,21 +75,28 @@ struct Candidate {
   std::int32_t parent;
   double size = 0;           // the size there (FrameField3D::size_at)
   std::int32_t framer = -1;  // surface vertex giving the frame
+  Frame frame{};             // the frame itself (the smooth field's, or framer's)
   std::int32_t solid = 0;    // 0: rejected
 };
 
+// smooth: when given, every point's frame is the smooth field's at its position.
 VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
-                     const SolidLocator& locator, double k, bool inherit_frame) {
+                     const SolidLocator& locator, double k, bool inherit_frame,
+                     const SmoothFrameField* smooth) {
   const std::size_t ns = surface.mesh.nodes.size();
   Cloud cloud(surface.mesh.nodes);
   // Per cloud point: its size, the surface vertex whose frame it uses, and its solid (0 =
   // surface).
   std::vector<double> size(ns);
   std::vector<std::int32_t> framer(ns), solid(ns, 0);
+  std::vector<Frame> frame(ns);
   for (std::size_t v = 0; v < ns; ++v) {
     size[v] = field.vertex_size(static_cast<std::int32_t>(v));
     framer[v] = static_cast<std::int32_t>(v);
+    frame[v] = field.vertex_frame(framer[v]);
   }
+  // The nearest surface vertex is needed only for the paper's frame rule or for the size.
+  const bool need_nearest_frame = !inherit_frame && !smooth;
   std::vector<std::int32_t> queue(ns);
   for (std::size_t v = 0; v < ns; ++v) queue[v] = static_cast<std::int32_t>(v);
   // A surface node that no triangle uses would grow points outside: skip it.
@@ -114,7 +123,7 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       Candidate& c = cands[i];
       const int j = static_cast<int>(i % 6);
       const Vec3& x = cloud.point(c.parent);
-      const Frame& pf = field.vertex_frame(framer[c.parent]);
+      const Frame& pf = frame[c.parent];
       const double hp = size[c.parent];
       const double sign = (j % 2) ? -1.0 : 1.0;
       const Vec3& dir = pf[j / 2];
@@ -127,7 +136,7 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       std::int32_t nv = -1;
       double hc = 0;
       auto size_and_nearest = [&] {
-        if (inherit_frame && field.at_max_size(trial)) {
+        if (!need_nearest_frame && field.at_max_size(trial)) {
           nv = -1;
           hc = field.max_size();
         } else {
@@ -149,9 +158,10 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       }
       c.pos = trial;
       c.size = hc;
-      c.framer = inherit_frame ? framer[c.parent] : nv;
+      c.framer = inherit_frame || smooth ? framer[c.parent] : nv;
+      c.frame = smooth ? smooth->at(trial) : field.vertex_frame(c.framer);
       const double r = k * hc;
-      if (cloud.excluded(trial, field.vertex_frame(c.framer), r)) continue;
+      if (cloud.excluded(trial, c.frame, r)) continue;
       if (solid[c.parent] > 0) {
         const int s = solid[c.parent];
         if (!locator.near_boundary(s, trial, r) && !locator.segment_hits_boundary(s, x, trial))
@@ -170,10 +180,11 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       ++out.candidates;
       if (c.solid == 0) continue;
       const double r = k * c.size;
-      if (cloud.size() > before && cloud.excluded(c.pos, field.vertex_frame(c.framer), r)) continue;
+      if (cloud.size() > before && cloud.excluded(c.pos, c.frame, r)) continue;
       const std::int32_t id = cloud.add(c.pos);
       size.push_back(c.size);
       framer.push_back(c.framer);
+      frame.push_back(c.frame);
       solid.push_back(c.solid);
       queue.push_back(id);
       out.points.push_back(c.pos);
@@ -252,16 +263,25 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   if (!(options.jitter >= 0 && options.jitter < 0.01))
     throw Error("volume points: jitter must be in [0, 0.01), got " +
                 std::to_string(options.jitter));
+  std::unique_ptr<SmoothFrameField> smooth;
+  double smooth_seconds = 0;
+  if (options.smooth_frame) {
+    const auto t0 = std::chrono::steady_clock::now();
+    smooth = std::make_unique<SmoothFrameField>(surface, field, locator, options.smooth);
+    smooth_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
   if (!options.random) {
-    VolumePoints out = frontal(surface, field, locator, options.k, options.inherit_frame);
+    VolumePoints out =
+        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get());
+    out.smooth_field_seconds = smooth_seconds;
     jitter_points(out, field, options.jitter);
     return out;
   }
   std::size_t target = options.random_count;
   std::size_t frontal_count = 0;
   if (target == 0) {
-    frontal_count =
-        frontal(surface, field, locator, options.k, options.inherit_frame).points.size();
+    frontal_count = frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get())
+                        .points.size();
     target = frontal_count;
   }
   VolumePoints out = random_points(surface, field, locator, options.k, target, options.seed);

@@ -7,6 +7,11 @@
 // parent to child), not the paper's frame of the nearest surface vertex: each front then grows
 // as one straight lattice up to where it meets another, instead of switching orientation where
 // the nearest vertex changes (ANC101 h = 4.5: H_vol +1.1 points, H_nbr +2.0; validation/volume.md).
+// With smooth_frame (--smooth-frame, a study switch) a point's frame is instead the smooth
+// field's at its position (frame_field_smooth.hpp): the fronts turn where walls of different
+// orientations meet (ANC101 h = 4.5: H_nbr 65.96 -> 68.35 %, H_vol 87.82 -> 88.77 %), but the
+// shared models at diagonal/30 lose on average (H_vol -0.34 points, tie_rod -10.2, cylinder
+// -3.2: on revolved parts the straight lattices grown from the end faces make more hexes).
 //
 // Takes: the SurfaceMesh, the 3D frame field and the locator.
 // Gives: the interior points (VolumePoints).
@@ -17,6 +22,7 @@
 #include <vector>
 
 #include "mesher/frame_field_3d.hpp"
+#include "mesher/frame_field_smooth.hpp"
 #include "mesher/solid_locator.hpp"
 #include "mesher/surface_mesh.hpp"
 
@@ -34,6 +40,10 @@ struct VolumePointsOptions {
   // Frame of a point: the one its front started from (true), or the nearest surface vertex's
   // (false: the paper's rule). The size is always the nearest surface vertex's.
   bool inherit_frame = true;
+  // Frame of a point: the smooth field's at its position (frame_field_smooth.hpp), built here
+  // from the surface frames; overrides inherit_frame. Off by default (issue 16 study).
+  bool smooth_frame = false;
+  SmoothFrameOptions smooth;
 };
 
 struct VolumePoints {
@@ -41,6 +51,7 @@ struct VolumePoints {
   std::vector<std::int32_t> solid;  // solid id of each point
   std::size_t candidates = 0;       // candidates examined
   std::size_t frontal_count = 0;    // random mode: the frontal run's count it aimed at
+  double smooth_field_seconds = 0;  // smooth_frame: building the field
 };
 
 VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D& field,
