@@ -213,6 +213,12 @@ std::uint32_t next_near_epoch(FillScratch& scratch) {
 void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScratch& scratch,
               const std::vector<char>* used) {
   auto taken = [&](std::int32_t t) { return used && (*used)[t]; };
+  scratch.quads.clear();
+  scratch.keys.clear();
+  if (used && std::all_of(topo.star_begin(v), topo.star_end(v), taken)) {
+    scratch.num_up = 0;  // no free tet at v: no quad of free tets
+    return;
+  }
   const TetMesh& m = topo.mesh();
   const Vec3& pv = m.nodes[v];
   auto corner_ok = [&](std::int32_t a, std::int32_t b) {

@@ -17,12 +17,6 @@ namespace {
 void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratch& scratch,
                 const std::vector<char>* used, float keep_from, float keep_below,
                 std::vector<HexCorners>& out) {
-  if (used) {  // a hex at v has a tet at v: none free, none to find
-    bool any_free = false;
-    for (auto it = topo.star_begin(v); it != topo.star_end(v) && !any_free; ++it)
-      any_free = !(*used)[*it];
-    if (!any_free) return;
-  }
   const auto& X = topo.mesh().nodes;
   auto ok = [&](std::int32_t o, std::int32_t a, std::int32_t b, std::int32_t c) {
     return corner_at_least(X[o], X[a], X[b], X[c], qmin);

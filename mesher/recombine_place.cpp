@@ -8,6 +8,14 @@ namespace {
 
 constexpr std::size_t kChunk = 1 << 15;  // candidates fill-tested on all threads at a time
 
+// A candidate with a corner whose tets are all taken cannot be placed any more.
+bool corners_have_free_tets(const std::vector<std::int32_t>& free_around, const std::int32_t* nodes,
+                            int n) {
+  for (int i = 0; i < n; ++i)
+    if (free_around[nodes[i]] == 0) return false;
+  return true;
+}
+
 }  // namespace
 
 template <class T>
@@ -68,14 +76,9 @@ std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindC
     }
     return all;
   }
-  std::vector<std::size_t> ends{0};
-  for (const auto& run : runs) {
-    all.insert(all.end(), run.begin(), run.end());
-    ends.push_back(all.size());
-  }
-  for (std::size_t e = 2; e < ends.size(); ++e)
-    std::inplace_merge(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(ends[e - 1]),
-                       all.begin() + static_cast<std::ptrdiff_t>(ends[e]));
+  RunMerger<Candidate> merger(r);
+  all.reserve(r.size());
+  while (const Candidate* c = merger.next()) all.push_back(*c);
   return all;
 }
 
@@ -90,9 +93,7 @@ std::size_t place_greedily(RecombineState& s, const CandidateChunks& next, Confo
     if (!used[t])
       for (std::int32_t v : m.tets[t]) ++free_around[v];
   auto possible = [&](const Candidate& c) {
-    for (int i = 0; i < num_nodes(c.kind); ++i)
-      if (free_around[c.nodes[i]] == 0) return false;
-    return true;
+    return corners_have_free_tets(free_around, c.nodes.data(), num_nodes(c.kind));
   };
   // In chunks, best first: the fill tests of a chunk's still possible candidates on all threads
   // (they only read `used`), then the serial greedy pass over the chunk.
@@ -154,9 +155,8 @@ std::size_t place_greedily(RecombineState& s, const SortedRuns<HexCorners>& cand
         while (chunk.size() < kChunk) {
           const HexCorners* h = merger.next();
           if (!h) return;
-          bool possible = true;
-          for (const std::int32_t v : h->nodes) possible = possible && free_around[v] > 0;
-          if (possible) chunk.push_back(h->candidate());
+          if (corners_have_free_tets(free_around, h->nodes.data(), 8))
+            chunk.push_back(h->candidate());
         }
       },
       index);

@@ -15,10 +15,6 @@ namespace {
 // p1/p2 ordered by orientation), so each prism is found once.
 void prisms_from(const TetTopology& topo, const std::vector<char>& used, std::int32_t v,
                  double qmin, FillScratch& scratch, std::vector<Candidate>& out) {
-  bool any_free = false;
-  for (auto it = topo.star_begin(v); it != topo.star_end(v) && !any_free; ++it)
-    any_free = !used[*it];
-  if (!any_free) return;
   const auto& X = topo.mesh().nodes;
   // The wedge's ideal corner (60 degrees) has raw value sqrt(3)/2; quality.hpp scales it to 1.
   const double raw_min = qmin * std::sqrt(3.0) / 2.0;
@@ -27,6 +23,7 @@ void prisms_from(const TetTopology& topo, const std::vector<char>& used, std::in
   };
   // A prism's quad faces are faces of its tets, which must be free: quads of free tets only.
   quads_at(topo, v, raw_min, scratch, &used);
+  if (scratch.quads.empty()) return;  // a prism at v has two quad faces at v
   // Partners of each vertex through a quad at v (both directions), sorted.
   auto& partner = scratch.prism_partners;
   partner.clear();

@@ -44,7 +44,50 @@ const KindSets& sets_of(CellKind kind) {
   return table[static_cast<int>(kind)];
 }
 
+// The rules between candidate c and an element of kind ek, given at[k]: c's corner at the
+// element's corner k, or -1 (at least two shared).
+bool rules_broken(const Candidate& c, CellKind ek, const int* at) {
+  const KindSets& cs = sets_of(c.kind);
+  const KindSets& es = sets_of(ek);
+  const int ne = num_nodes(ek);
+  // An edge of one on a diagonal of the other.
+  for (int a = 0; a < ne; ++a) {
+    if (at[a] < 0) continue;
+    for (int b = a + 1; b < ne; ++b) {
+      if (at[b] < 0) continue;
+      const std::uint64_t ab = std::uint64_t{1} << (8 * a + b);
+      const std::uint64_t cab = std::uint64_t{1} << (8 * at[a] + at[b]);
+      if (((es.edge & ab) && (cs.diagonal & cab)) || ((es.diagonal & ab) && (cs.edge & cab)))
+        return true;
+    }
+  }
+  // A face of one holding three corners of a face of the other, one of the two a quad (two
+  // quads holding all four corners are the same face: conformal).
+  for (int f = 0; f < es.num_faces; ++f) {
+    unsigned fc = 0;  // the element's face f, in the candidate's corners
+    for (int k = 0; k < ne; ++k)
+      if ((es.face[f] >> k & 1u) && at[k] >= 0) fc |= 1u << at[k];
+    if (std::popcount(fc) < 3) continue;
+    for (int g = 0; g < cs.num_faces; ++g)
+      if ((es.quad[f] || cs.quad[g]) && std::popcount(fc & cs.face[g]) == 3) return true;
+  }
+  return false;
+}
+
 }  // namespace
+
+bool rules_conflict(const Candidate& c, const Candidate& e) {
+  int at[8];
+  int shared = 0;
+  const int nc = num_nodes(c.kind), ne = num_nodes(e.kind);
+  for (int k = 0; k < ne; ++k) {
+    at[k] = -1;
+    for (int i = 0; i < nc; ++i)
+      if (c.nodes[i] == e.nodes[k]) at[k] = i;
+    shared += at[k] >= 0;
+  }
+  return shared >= 2 && rules_broken(c, e.kind, at);  // every rule needs two shared vertices
+}
 
 template <class Visit>
 void ConformityIndex::for_each_at(std::int32_t v, Visit visit) const {
@@ -64,7 +107,6 @@ bool ConformityIndex::conflicts(const Candidate& c) const {
       near_.push_back(static_cast<std::uint64_t>(e) << 8 | static_cast<unsigned>(i));
     });
   std::sort(near_.begin(), near_.end());
-  const KindSets& cs = sets_of(c.kind);
   for (std::size_t i = 0; i < near_.size();) {
     std::size_t j = i + 1;
     while (j < near_.size() && near_[j] >> 8 == near_[i] >> 8) ++j;
@@ -85,28 +127,7 @@ bool ConformityIndex::conflicts(const Candidate& c) const {
       }
     }
     i = j;
-    const KindSets& es = sets_of(e.kind);
-    // An edge of one on a diagonal of the other.
-    for (int a = 0; a < ne; ++a) {
-      if (at[a] < 0) continue;
-      for (int b = a + 1; b < ne; ++b) {
-        if (at[b] < 0) continue;
-        const std::uint64_t ab = std::uint64_t{1} << (8 * a + b);
-        const std::uint64_t cab = std::uint64_t{1} << (8 * at[a] + at[b]);
-        if (((es.edge & ab) && (cs.diagonal & cab)) || ((es.diagonal & ab) && (cs.edge & cab)))
-          return true;
-      }
-    }
-    // A face of one holding three corners of a face of the other, one of the two a quad (two
-    // quads holding all four corners are the same face: conformal).
-    for (int f = 0; f < es.num_faces; ++f) {
-      unsigned fc = 0;  // e's face f, in the candidate's corners
-      for (int k = 0; k < ne; ++k)
-        if ((es.face[f] >> k & 1u) && at[k] >= 0) fc |= 1u << at[k];
-      if (std::popcount(fc) < 3) continue;
-      for (int g = 0; g < cs.num_faces; ++g)
-        if ((es.quad[f] || cs.quad[g]) && std::popcount(fc & cs.face[g]) == 3) return true;
-    }
+    if (rules_broken(c, e.kind, at)) return true;
   }
   return false;
 }

@@ -16,6 +16,9 @@ namespace hexfem {
 // has three vertices of another element's quad; no edge of one is a diagonal of the other's quad.
 // Every rule concerns two elements sharing two or more vertices: a candidate is checked against
 // the placed elements at its corners (listed per vertex), not against tables of all faces.
+// The same rules between two elements alone: whether c breaks one against e.
+bool rules_conflict(const Candidate& c, const Candidate& e);
+
 class ConformityIndex {
  public:
   bool conflicts(const Candidate& c) const;

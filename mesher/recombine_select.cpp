@@ -22,32 +22,6 @@ bool share_tet(const Candidate& a, const Candidate& b) {
   return false;
 }
 
-// The conformity rules between two elements, through ConformityIndex itself (so the rules are
-// exactly the greedy pass's) on vertices renumbered 0..15: the index then stays a few entries
-// long instead of one per mesh vertex.
-bool rules_conflict(const Candidate& a, const Candidate& b) {
-  std::int32_t ids[16];
-  int n = 0;
-  auto local = [&](std::int32_t v) {
-    for (int i = 0; i < n; ++i)
-      if (ids[i] == v) return i;
-    ids[n] = v;
-    return n++;
-  };
-  Candidate la = a, lb = b;
-  const int na = num_nodes(a.kind), nb = num_nodes(b.kind);
-  for (int i = 0; i < na; ++i) la.nodes[i] = local(a.nodes[i]);
-  for (int i = 0; i < nb; ++i) lb.nodes[i] = local(b.nodes[i]);
-  if (n > na + nb - 2) return false;  // every rule needs two shared vertices
-  // One small index per thread, emptied by copying an empty one (which keeps the vectors'
-  // memory): this check runs millions of times.
-  static const ConformityIndex kEmpty;
-  thread_local ConformityIndex index;
-  index = kEmpty;
-  index.add(lb);
-  return index.conflicts(la);
-}
-
 struct Blockers {
   int n = 0;
   std::int32_t e[2] = {-1, -1};

@@ -74,8 +74,8 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
   ho.fill = s.limits.fill;
   r.hex_candidates = 0;
   place_hexes_greedily(s, ho, index, &r.hex_candidates);
-  if (selection != HexSelection::kSwap) return;
   r.stages.push_back(timer.lap("hexes"));
+  if (selection != HexSelection::kSwap) return;
   // The swaps look at every candidate, placeable or not: the whole list, found again.
   r.hex_swaps = improve_by_swaps(s, hex_candidate_list(s.topo, ho));
   // The index has no removal: rebuilt from the elements kept and put in.
@@ -277,7 +277,6 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   r.stages.push_back(timer.lap("tet topology"));
   ConformityIndex index;
   place_hexes(s, index, options.hex_selection, timer, r);
-  if (options.hex_selection == HexSelection::kGreedy) r.stages.push_back(timer.lap("hexes"));
   place_prisms(s, index, options, r);
   r.stages.push_back(timer.lap("prisms"));
   place_pyramids_and_slivers(s, options, r);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <boost/geometry.hpp>
 #include <boost/geometry/index/rtree.hpp>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -73,10 +72,9 @@ class Cloud {
 struct Candidate {
   Vec3 pos;
   std::int32_t parent;
-  double size = 0;           // the size there (FrameField3D::size_at)
-  std::int32_t framer = -1;  // surface vertex giving the frame
-  Frame frame{};             // the frame itself (the smooth field's, or framer's)
-  std::int32_t solid = 0;    // 0: rejected
+  double size = 0;         // the size there (FrameField3D::size_at)
+  Frame frame{};           // the smooth field's, its front's or its nearest surface vertex's
+  std::int32_t solid = 0;  // 0: rejected
 };
 
 // smooth: when given, every point's frame is the smooth field's at its position.
@@ -85,15 +83,13 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
                      const SmoothFrameField* smooth) {
   const std::size_t ns = surface.mesh.nodes.size();
   Cloud cloud(surface.mesh.nodes);
-  // Per cloud point: its size, the surface vertex whose frame it uses, and its solid (0 =
-  // surface).
+  // Per cloud point: its size, its frame, and its solid (0 = surface).
   std::vector<double> size(ns);
-  std::vector<std::int32_t> framer(ns), solid(ns, 0);
+  std::vector<std::int32_t> solid(ns, 0);
   std::vector<Frame> frame(ns);
   for (std::size_t v = 0; v < ns; ++v) {
     size[v] = field.vertex_size(static_cast<std::int32_t>(v));
-    framer[v] = static_cast<std::int32_t>(v);
-    frame[v] = field.vertex_frame(framer[v]);
+    frame[v] = field.vertex_frame(static_cast<std::int32_t>(v));
   }
   // The nearest surface vertex is needed only for the paper's frame rule or for the size.
   const bool need_nearest_frame = !inherit_frame && !smooth;
@@ -158,8 +154,9 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       }
       c.pos = trial;
       c.size = hc;
-      c.framer = inherit_frame || smooth ? framer[c.parent] : nv;
-      c.frame = smooth ? smooth->at(trial) : field.vertex_frame(c.framer);
+      c.frame = smooth          ? smooth->at(trial)
+                : inherit_frame ? frame[c.parent]
+                                : field.vertex_frame(nv);
       const double r = k * hc;
       if (cloud.excluded(trial, c.frame, r)) continue;
       if (solid[c.parent] > 0) {
@@ -183,7 +180,6 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
       if (cloud.size() > before && cloud.excluded(c.pos, c.frame, r)) continue;
       const std::int32_t id = cloud.add(c.pos);
       size.push_back(c.size);
-      framer.push_back(c.framer);
       frame.push_back(c.frame);
       solid.push_back(c.solid);
       queue.push_back(id);
@@ -264,16 +260,11 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
     throw Error("volume points: jitter must be in [0, 0.01), got " +
                 std::to_string(options.jitter));
   std::unique_ptr<SmoothFrameField> smooth;
-  double smooth_seconds = 0;
-  if (options.smooth_frame) {
-    const auto t0 = std::chrono::steady_clock::now();
+  if (options.smooth_frame)
     smooth = std::make_unique<SmoothFrameField>(surface, field, locator, options.smooth);
-    smooth_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
   if (!options.random) {
     VolumePoints out =
         frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get());
-    out.smooth_field_seconds = smooth_seconds;
     jitter_points(out, field, options.jitter);
     return out;
   }

@@ -51,7 +51,6 @@ struct VolumePoints {
   std::vector<std::int32_t> solid;  // solid id of each point
   std::size_t candidates = 0;       // candidates examined
   std::size_t frontal_count = 0;    // random mode: the frontal run's count it aimed at
-  double smooth_field_seconds = 0;  // smooth_frame: building the field
 };
 
 VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D& field,
