@@ -9,9 +9,13 @@ pkg_check_modules(HEXFEM_SLEPC QUIET IMPORTED_TARGET SLEPc)
 hexfem_require(HEXFEM_SLEPC_FOUND libslepc-real-dev)
 find_package(MPI QUIET COMPONENTS C)
 hexfem_require(MPI_C_FOUND "libopenmpi-dev openmpi-bin")
+# The BLAS PETSc calls (libblas.so.3, OpenBLAS through Debian's alternatives): fem/lobpcg.cpp
+# calls dgemm itself, through petscblaslapack.h.
+find_package(BLAS QUIET)
+hexfem_require(BLAS_FOUND libblas-dev)
 find_program(HEXFEM_MPIEXEC NAMES mpirun mpiexec)
 hexfem_require(HEXFEM_MPIEXEC openmpi-bin)
 
 add_library(hexfem_petsc INTERFACE)
 target_link_libraries(hexfem_petsc INTERFACE PkgConfig::HEXFEM_SLEPC PkgConfig::HEXFEM_PETSC
-                                             MPI::MPI_C)
+                                             MPI::MPI_C BLAS::BLAS)

@@ -32,12 +32,19 @@ struct IterativeSettings {
   // A DOF fixed on a node whose other DOFs are free stays in the (block size 3) matrices,
   // decoupled, with K_ii / M_ii = spurious_factor * max(K_jj / M_jj): far above the wanted modes.
   double spurious_factor = 1e3;
-  // LOBPCG block size; 0 = the number of modes wanted.
+  // LOBPCG block size; 0 = the number of modes wanted plus extra_block_columns (columns past
+  // the wanted ones speed up the last wanted pairs and need not converge).
   int block_size = 0;
+  int extra_block_columns = 2;
   // GAMG: smoothed aggregation with the six rigid-body modes as near-null space.
   double gamg_threshold = 0.01;  // drop tolerance of the aggregation graph
   int gamg_smooths = 1;          // prolongator smoothing steps (1 = smoothed aggregation)
   int gamg_coarse_eq_limit = 1000;
+  // GAMG's hierarchy applied by fem/block_vcycle.cpp to the whole block at once (Chebyshev-Jacobi
+  // smoothing, chebyshev_steps before and after the coarse correction, as GAMG's default
+  // smoother); false: PETSc's own V-cycle, column by column.
+  bool block_vcycle = true;
+  int chebyshev_steps = 2;
 };
 
 }  // namespace hexfem

@@ -9,12 +9,15 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <numeric>
 #include <string>
 
+#include "fem/block_vcycle.hpp"
 #include "fem/boundary.hpp"
 #include "fem/element.hpp"
 #include "fem/hex8_incompatible.hpp"
+#include "fem/lobpcg.hpp"
 #include "fem/nc_ties.hpp"
 #include "fem/petsc_env.hpp"
 #include "mesher/mesh/error.hpp"
@@ -316,19 +319,6 @@ void attach_near_null_space(const MixedMesh& mesh, const Layout& L, double lengt
   HEXFEM_PETSC(VecDestroy(&coords));
 }
 
-// SLEPc's test on each Ritz pair (x M-normalized, res = |Kx - λMx|): relative to |λ|, but
-// against a floor for λ ≈ 0 (rigid-body modes), and scaled by sqrt(mass per DOF) ≈ |Mx| so the
-// tolerance is dimensionless.
-struct ConvergenceScale {
-  double floor = 0, mass_per_dof = 1;
-};
-PetscErrorCode convergence_test(EPS, PetscScalar eigr, PetscScalar, PetscReal res,
-                                PetscReal* errest, void* ctx) {
-  const auto* s = static_cast<const ConvergenceScale*>(ctx);
-  *errest = res / (std::max(std::abs(eigr), s->floor) * std::sqrt(s->mass_per_dof));
-  return 0;
-}
-
 // Progress on stderr (rank 0, terminals only) and the residual reached, for the error message.
 struct Monitor {
   int nev = 0;
@@ -360,39 +350,27 @@ void configure_gamg(KSP ksp, const IterativeSettings& s) {
   HEXFEM_PETSC(PCGAMGSetCoarseEqLim(pc, s.gamg_coarse_eq_limit));
 }
 
-// LOBPCG (one GAMG V-cycle per vector and iteration) or, with krylov_schur, Krylov-Schur on
-// (K - σM)^-1 M: K - σM is positive definite, so target 0 and the largest |θ| = 1 / (λ - σ).
-void configure(EPS eps, const JobParams& job, ConvergenceScale* scale, Monitor* mon,
-               bool krylov_schur) {
+// The fallback: Krylov-Schur on (K - σM)^-1 M, each solve by CG + GAMG. K - σM is positive
+// definite, so target 0 and the largest |θ| = 1 / (λ - σ).
+void configure_krylov_schur(EPS eps, const JobParams& job, Monitor* mon) {
   const IterativeSettings& s = job.settings;
   HEXFEM_PETSC(EPSSetProblemType(eps, EPS_GHEP));
   HEXFEM_PETSC(EPSSetDimensions(eps, job.num_modes, PETSC_DEFAULT, PETSC_DEFAULT));
   HEXFEM_PETSC(EPSMonitorSet(eps, monitor, mon, nullptr));
+  // Its own options prefix: PETSC_OPTIONS="-ks_eps_ncv 40 -ks_st_ksp_rtol 1e-12" tunes it
+  // apart from LOBPCG's preconditioner ("-st_...").
+  HEXFEM_PETSC(EPSSetOptionsPrefix(eps, "ks_"));
+  HEXFEM_PETSC(EPSSetType(eps, EPSKRYLOVSCHUR));
+  HEXFEM_PETSC(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
+  HEXFEM_PETSC(EPSSetTarget(eps, 0.0));
+  HEXFEM_PETSC(EPSSetTolerances(eps, s.krylov_schur_tolerance, s.krylov_schur_max_iterations));
   ST st;
   KSP ksp;
   HEXFEM_PETSC(EPSGetST(eps, &st));
-  if (krylov_schur) {
-    // Its own options prefix: PETSC_OPTIONS="-ks_eps_ncv 40 -ks_st_ksp_rtol 1e-12" tunes it
-    // apart from LOBPCG's "-eps_..." / "-st_...".
-    HEXFEM_PETSC(EPSSetOptionsPrefix(eps, "ks_"));
-    HEXFEM_PETSC(EPSSetType(eps, EPSKRYLOVSCHUR));
-    HEXFEM_PETSC(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
-    HEXFEM_PETSC(EPSSetTarget(eps, 0.0));
-    HEXFEM_PETSC(EPSSetTolerances(eps, s.krylov_schur_tolerance, s.krylov_schur_max_iterations));
-    HEXFEM_PETSC(STSetType(st, STSINVERT));
-    HEXFEM_PETSC(STGetKSP(st, &ksp));
-    HEXFEM_PETSC(KSPSetType(ksp, KSPCG));
-    HEXFEM_PETSC(KSPSetTolerances(ksp, s.cg_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
-  } else {
-    HEXFEM_PETSC(EPSSetType(eps, EPSLOBPCG));
-    HEXFEM_PETSC(EPSSetWhichEigenpairs(eps, EPS_SMALLEST_REAL));
-    HEXFEM_PETSC(EPSSetTolerances(eps, s.tolerance, s.max_iterations));
-    HEXFEM_PETSC(EPSSetConvergenceTestFunction(eps, convergence_test, scale, nullptr));
-    if (s.block_size > 0) HEXFEM_PETSC(EPSLOBPCGSetBlockSize(eps, s.block_size));
-    HEXFEM_PETSC(STSetType(st, STPRECOND));
-    HEXFEM_PETSC(STGetKSP(st, &ksp));
-    HEXFEM_PETSC(KSPSetType(ksp, KSPPREONLY));
-  }
+  HEXFEM_PETSC(STSetType(st, STSINVERT));
+  HEXFEM_PETSC(STGetKSP(st, &ksp));
+  HEXFEM_PETSC(KSPSetType(ksp, KSPCG));
+  HEXFEM_PETSC(KSPSetTolerances(ksp, s.cg_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
   configure_gamg(ksp, s);
   HEXFEM_PETSC(EPSSetFromOptions(eps));  // PETSC_OPTIONS overrides
 }
@@ -589,22 +567,23 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   const int nev = job.num_modes - std::min(num_rigid, job.num_modes);
   t0 = Clock::now();
   EPS eps = nullptr;
+  LobpcgResult lob;
+  bool used_eps = false;  // the Krylov-Schur fallback ran (the modes are eps's)
   struct EpsGuard {
     EPS& e;
     ~EpsGuard() { EPSDestroy(&e); }
   } guard{eps};
   if (nev > 0) {
-    ConvergenceScale scale{s.floor_fraction * lambda_scale, out.total_mass / std::max(1L, n)};
     JobParams elastic = job;
     elastic.num_modes = nev;
     std::string brief;  // how the last attempt ended, in a few words
     // Returns an empty string on success, else why it failed (eps keeps the attempt's state).
-    const auto attempt = [&](bool krylov_schur, Monitor& mon) -> std::string {
+    const auto krylov_schur = [&](Monitor& mon) -> std::string {
       EPSDestroy(&eps);
       HEXFEM_PETSC(EPSCreate(PETSC_COMM_WORLD, &eps));
       HEXFEM_PETSC(EPSSetOperators(eps, mats.K, mats.M));
       if (num_rigid > 0) HEXFEM_PETSC(EPSSetDeflationSpace(eps, num_rigid, rigid.vectors.data()));
-      configure(eps, elastic, &scale, &mon, krylov_schur);
+      configure_krylov_schur(eps, elastic, &mon);
       const auto t_setup = Clock::now();
       HEXFEM_PETSC(EPSSetUp(eps));
       out.setup_seconds += seconds_since(t_setup);
@@ -628,15 +607,68 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
               " modes converged after " + std::to_string(its) + " iterations";
       return nconv < nev ? failure_message(eps, elastic, mon, n) : std::string();
     };
-    Monitor mon{nev};
-    std::string failed = attempt(false, mon);
+    // LOBPCG (fem/lobpcg.cpp), preconditioned by one GAMG V-cycle on K - σM.
+    KSP pc_ksp;
+    HEXFEM_PETSC(KSPCreate(PETSC_COMM_WORLD, &pc_ksp));
+    struct KspGuard {
+      KSP& k;
+      ~KspGuard() { KSPDestroy(&k); }
+    } ksp_guard{pc_ksp};
+    HEXFEM_PETSC(KSPSetOptionsPrefix(pc_ksp, "st_"));  // as SLEPc's: -st_mg_levels_ksp_max_it ...
+    HEXFEM_PETSC(KSPSetOperators(pc_ksp, mats.K, mats.K));
+    HEXFEM_PETSC(KSPSetType(pc_ksp, KSPPREONLY));
+    configure_gamg(pc_ksp, s);
+    HEXFEM_PETSC(KSPSetFromOptions(pc_ksp));
+    const auto t_setup = Clock::now();
+    HEXFEM_PETSC(KSPSetUp(pc_ksp));
+    PC pc;
+    HEXFEM_PETSC(KSPGetPC(pc_ksp, &pc));
+    std::unique_ptr<BlockVcycle> vcycle;
+    if (s.block_vcycle) vcycle = std::make_unique<BlockVcycle>(pc, s.chebyshev_steps);
+    out.setup_seconds += seconds_since(t_setup);
+    LobpcgProblem problem{mats.K, mats.M, nullptr, rigid.vectors};
+    if (vcycle)
+      problem.precondition = [&](Mat in, Mat o) { vcycle->apply(in, o); };
+    else
+      problem.precondition = [&](Mat in, Mat o) { HEXFEM_PETSC(KSPMatSolve(pc_ksp, in, o)); };
+    LobpcgOptions lo;
+    lo.nev = nev;
+    lo.block = s.block_size > 0 ? s.block_size : nev + s.extra_block_columns;
+    lo.tolerance = s.tolerance;
+    lo.max_iterations = s.max_iterations;
+    // The test of a pair (x M-normalized): |Kx - λMx| / (max(|λ|, floor) sqrt(mass per DOF)),
+    // about |r|_{M^-1} / λ, dimensionless; a floor for λ ≈ 0.
+    lo.floor = s.floor_fraction * lambda_scale;
+    lo.mass_per_dof = out.total_mass / std::max(1L, n);
+    if (rank == 0)
+      lo.monitor = [nev](int its, int nconv, double) {
+        show_progress("eigensolver iteration " + std::to_string(its) + ": " +
+                      std::to_string(nconv) + " of " + std::to_string(nev) + " modes converged");
+      };
+    lob = lobpcg(problem, lo);
+    if (rank == 0) end_progress();
+    out.iterations += lob.iterations;
     out.algorithm = "LOBPCG";
+    std::string failed;
+    if (!lob.failure.empty()) {
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "the iterative eigensolver (LOBPCG + GAMG) %s: %d of %d modes converged "
+                    "after %d iterations, residual reached %.3g (tolerance %.3g, %ld DOFs); try "
+                    "--solver direct",
+                    lob.failure.c_str(), lob.converged, nev, lob.iterations, lob.worst, s.tolerance,
+                    n);
+      failed = buf;
+      brief = std::to_string(lob.converged) + " of " + std::to_string(nev) +
+              " modes converged after " + std::to_string(lob.iterations) + " iterations";
+    }
     if (!failed.empty() && s.krylov_schur_fallback) {
       // LOBPCG stalls where a cluster of modes straddles its block; shift-and-invert does not.
       Monitor ks_mon{nev};
-      const std::string lobpcg = brief;
-      const std::string ks_failed = attempt(true, ks_mon);
-      out.algorithm = "Krylov-Schur shift-invert, CG + GAMG (LOBPCG: " + lobpcg + ")";
+      const std::string lobpcg_brief = brief;
+      const std::string ks_failed = krylov_schur(ks_mon);
+      used_eps = true;
+      out.algorithm = "Krylov-Schur shift-invert, CG + GAMG (LOBPCG: " + lobpcg_brief + ")";
       failed = ks_failed.empty() ? "" : ks_failed + " (after LOBPCG: " + failed + ")";
     }
     if (!failed.empty()) throw Error(failed);
@@ -646,6 +678,13 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     if (i < num_rigid) {
       HEXFEM_PETSC(VecCopy(rigid.vectors[i], x));
       return rigid.mu[i];
+    }
+    if (!used_eps) {
+      PetscScalar* a;
+      HEXFEM_PETSC(VecGetArray(x, &a));
+      std::copy_n(lob.vectors.col(i - num_rigid).data(), lob.vectors.rows(), a);
+      HEXFEM_PETSC(VecRestoreArray(x, &a));
+      return lob.values[i - num_rigid];
     }
     PetscScalar mu;
     HEXFEM_PETSC(EPSGetEigenpair(eps, i - num_rigid, &mu, nullptr, x, nullptr));

@@ -1,0 +1,319 @@
+#include "fem/lobpcg.hpp"
+
+#include <petscblaslapack.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "fem/petsc_env.hpp"
+
+namespace hexfem {
+namespace {
+
+#define HEXFEM_PETSC(call) petsc_check((call), #call)
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+// out = U C + beta out on this rank's rows (BLAS: the tall blocks are the bulk of the dense work).
+void combine(const MatrixXd& U, const MatrixXd& C, double beta, MatrixXd& out) {
+  if (beta == 0) out.resize(U.rows(), C.cols());
+  if (out.size() == 0) return;
+  if (U.cols() == 0) {
+    out *= beta;
+    return;
+  }
+  const PetscBLASInt m = static_cast<PetscBLASInt>(U.rows()),
+                     n = static_cast<PetscBLASInt>(C.cols()),
+                     k = static_cast<PetscBLASInt>(U.cols());
+  const double one = 1;
+  BLASgemm_("N", "N", &m, &n, &k, &one, U.data(), &m, C.data(), &k, &beta, out.data(), &m);
+}
+
+// Uᵀ V over all ranks; every rank gets rank 0's copy of the sum (bitwise the same decisions).
+MatrixXd inner(const MatrixXd& U, const MatrixXd& V) {
+  MatrixXd local = MatrixXd::Zero(U.cols(), V.cols()), sum(U.cols(), V.cols());
+  if (U.rows() > 0 && local.size() > 0) {
+    const PetscBLASInt m = static_cast<PetscBLASInt>(U.cols()),
+                       n = static_cast<PetscBLASInt>(V.cols()),
+                       k = static_cast<PetscBLASInt>(U.rows());
+    const double one = 1, zero = 0;
+    BLASgemm_("T", "N", &m, &n, &k, &one, U.data(), &k, V.data(), &k, &zero, local.data(), &m);
+  }
+  if (local.size() == 0) return sum;
+  MPI_Allreduce(local.data(), sum.data(), static_cast<int>(sum.size()), MPI_DOUBLE, MPI_SUM,
+                PETSC_COMM_WORLD);
+  MPI_Bcast(sum.data(), static_cast<int>(sum.size()), MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+  return sum;
+}
+
+// Column-by-column PETSc operations on blocks held as plain column-major arrays.
+struct Columns {
+  Vec x = nullptr, y = nullptr;  // wrappers without storage of their own
+  explicit Columns(Mat A) {
+    PetscInt nloc, N;
+    HEXFEM_PETSC(MatGetLocalSize(A, &nloc, nullptr));
+    HEXFEM_PETSC(MatGetSize(A, &N, nullptr));
+    HEXFEM_PETSC(VecCreateMPIWithArray(PETSC_COMM_WORLD, 3, nloc, N, nullptr, &x));
+    HEXFEM_PETSC(VecCreateMPIWithArray(PETSC_COMM_WORLD, 3, nloc, N, nullptr, &y));
+  }
+  ~Columns() {
+    VecDestroy(&x);
+    VecDestroy(&y);
+  }
+  template <class F>
+  void each(const MatrixXd& in, MatrixXd& out, F f) {
+    out.resize(in.rows(), in.cols());
+    for (Eigen::Index j = 0; j < in.cols(); ++j) {
+      HEXFEM_PETSC(VecPlaceArray(x, in.col(j).data()));
+      HEXFEM_PETSC(VecPlaceArray(y, out.col(j).data()));
+      f(x, y);
+      HEXFEM_PETSC(VecResetArray(x));
+      HEXFEM_PETSC(VecResetArray(y));
+    }
+  }
+  // Blocks as PETSc dense matrices over the same storage: a block product reads A once for
+  // several columns, and a block V-cycle smooths them together (PCMatApply).
+  Mat dense(const MatrixXd& a) {
+    Mat d;
+    HEXFEM_PETSC(MatCreateDense(PETSC_COMM_WORLD, a.rows(), PETSC_DECIDE, PETSC_DETERMINE, a.cols(),
+                                const_cast<double*>(a.data()), &d));
+    return d;
+  }
+  void multiply(Mat A, const MatrixXd& in, MatrixXd& out) {
+    out.resize(in.rows(), in.cols());
+    if (in.cols() == 0) return;
+    Mat b = dense(in), c = dense(out);
+    HEXFEM_PETSC(MatProductCreateWithMat(A, b, nullptr, c));
+    HEXFEM_PETSC(MatProductSetType(c, MATPRODUCT_AB));
+    HEXFEM_PETSC(MatProductSetFromOptions(c));
+    HEXFEM_PETSC(MatProductSymbolic(c));
+    HEXFEM_PETSC(MatProductNumeric(c));
+    MatDestroy(&b);
+    MatDestroy(&c);
+  }
+  void solve(const std::function<void(Mat, Mat)>& precondition, const MatrixXd& in, MatrixXd& out) {
+    out.resize(in.rows(), in.cols());
+    if (in.cols() == 0) return;
+    Mat b = dense(in), c = dense(out);
+    precondition(b, c);
+    MatDestroy(&b);
+    MatDestroy(&c);
+  }
+};
+
+// Directions whose Gram eigenvalue is below this fraction of the largest are round-off.
+constexpr double kDropFraction = 1e-13;
+
+// B-orthonormalizes the columns of U (SVQB), dropping dependent directions; BU (and AU when
+// given) follow without new products. Returns the columns kept.
+long orthonormalize(MatrixXd& U, MatrixXd& BU, MatrixXd* AU) {
+  if (U.cols() == 0) return 0;
+  const MatrixXd G = inner(U, BU);
+  const VectorXd d = G.diagonal().cwiseMax(0).cwiseSqrt();
+  VectorXd dinv(d.size());
+  for (Eigen::Index i = 0; i < d.size(); ++i) dinv[i] = d[i] > 0 ? 1 / d[i] : 0;
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> es(dinv.asDiagonal() * G * dinv.asDiagonal());
+  const VectorXd& theta = es.eigenvalues();  // ascending
+  const double top = theta.size() ? theta[theta.size() - 1] : 0;
+  Eigen::Index first = 0;
+  while (first < theta.size() && !(theta[first] > kDropFraction * top)) ++first;
+  const Eigen::Index kept = theta.size() - first;
+  MatrixXd T = dinv.asDiagonal() * es.eigenvectors().rightCols(kept);
+  for (Eigen::Index j = 0; j < kept; ++j) T.col(j) /= std::sqrt(theta[first + j]);
+  MatrixXd tmp;
+  combine(U, T, 0, tmp);
+  U.swap(tmp);
+  combine(BU, T, 0, tmp);
+  BU.swap(tmp);
+  if (AU) {
+    combine(*AU, T, 0, tmp);
+    AU->swap(tmp);
+  }
+  return kept;
+}
+
+// U -= V (BVᵀ U): B-orthogonal to the B-orthonormal V.
+void project_out(const MatrixXd& V, const MatrixXd& BV, MatrixXd& U) {
+  if (V.cols() == 0 || U.cols() == 0) return;
+  const MatrixXd c = inner(BV, U);
+  const PetscBLASInt m = static_cast<PetscBLASInt>(U.rows()),
+                     n = static_cast<PetscBLASInt>(U.cols()),
+                     k = static_cast<PetscBLASInt>(V.cols());
+  const double minus = -1, one = 1;
+  if (m > 0)
+    BLASgemm_("N", "N", &m, &n, &k, &minus, V.data(), &m, c.data(), &k, &one, U.data(), &m);
+}
+
+// The Rayleigh-Ritz step on the basis [blocks...]: the m lowest Ritz values and, per block, the
+// rows of the coefficient matrix. Returns false when the basis holds fewer than m directions.
+struct Basis {
+  std::vector<const MatrixXd*> S, AS, BS;
+};
+bool rayleigh_ritz(const Basis& b, long m, VectorXd& theta, std::vector<MatrixXd>& coef) {
+  std::vector<long> off{0};
+  for (const MatrixXd* s : b.S) off.push_back(off.back() + s->cols());
+  const long k = off.back();
+  MatrixXd Ga(k, k), Gb(k, k);
+  for (std::size_t i = 0; i < b.S.size(); ++i)
+    for (std::size_t j = i; j < b.S.size(); ++j) {
+      const MatrixXd a = inner(*b.S[i], *b.AS[j]), bb = inner(*b.S[i], *b.BS[j]);
+      Ga.block(off[i], off[j], a.rows(), a.cols()) = a;
+      Ga.block(off[j], off[i], a.cols(), a.rows()) = a.transpose();
+      Gb.block(off[i], off[j], bb.rows(), bb.cols()) = bb;
+      Gb.block(off[j], off[i], bb.cols(), bb.rows()) = bb.transpose();
+    }
+  // Gb = U D Uᵀ; the basis B-orthonormalized as T = (scaled) U D^-1/2 without its null part.
+  const VectorXd d = Gb.diagonal().cwiseMax(0).cwiseSqrt();
+  VectorXd dinv(k);
+  for (long i = 0; i < k; ++i) dinv[i] = d[i] > 0 ? 1 / d[i] : 0;
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> eb(dinv.asDiagonal() * Gb * dinv.asDiagonal());
+  const VectorXd& g = eb.eigenvalues();
+  const double top = k ? g[k - 1] : 0;
+  long first = 0;
+  while (first < k && !(g[first] > kDropFraction * top)) ++first;
+  const long kept = k - first;
+  if (kept < m) return false;
+  MatrixXd T = dinv.asDiagonal() * eb.eigenvectors().rightCols(kept);
+  for (long j = 0; j < kept; ++j) T.col(j) /= std::sqrt(g[first + j]);
+  MatrixXd Ha = T.transpose() * Ga * T;
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> ea(0.5 * (Ha + Ha.transpose()));
+  theta = ea.eigenvalues().head(m);
+  const MatrixXd C = T * ea.eigenvectors().leftCols(m);
+  coef.clear();
+  for (std::size_t i = 0; i < b.S.size(); ++i)
+    coef.push_back(C.middleRows(off[i], off[i + 1] - off[i]));
+  return true;
+}
+
+double unit_random(std::uint64_t key) {  // splitmix64: the same start for any number of ranks
+  key += 0x9e3779b97f4a7c15ULL;
+  key = (key ^ (key >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  key = (key ^ (key >> 27)) * 0x94d049bb133111ebULL;
+  key ^= key >> 31;
+  return static_cast<double>(key >> 11) * 0x1.0p-52 - 1.0;  // [-1, 1)
+}
+
+}  // namespace
+
+LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
+  LobpcgResult res;
+  const long m = std::max(o.nev, o.block);
+  PetscInt nloc, lo, hi;
+  HEXFEM_PETSC(MatGetLocalSize(p.A, &nloc, nullptr));
+  HEXFEM_PETSC(MatGetOwnershipRange(p.A, &lo, &hi));
+  Columns cols(p.A);
+
+  // The constraints Y and BY.
+  MatrixXd Y(nloc, p.constraints.size()), BY;
+  for (std::size_t j = 0; j < p.constraints.size(); ++j) {
+    const PetscScalar* a;
+    HEXFEM_PETSC(VecGetArrayRead(p.constraints[j], &a));
+    std::copy_n(a, nloc, Y.col(j).data());
+    HEXFEM_PETSC(VecRestoreArrayRead(p.constraints[j], &a));
+  }
+  cols.multiply(p.B, Y, BY);
+
+  // Start: a random block, B-orthogonal to Y, B-orthonormal, then its Ritz vectors.
+  MatrixXd X(nloc, m), AX, BX, W, AW, BW, P, AP, BP, R, tmp;
+  for (long j = 0; j < m; ++j)
+    for (PetscInt i = 0; i < nloc; ++i)
+      X(i, j) =
+          unit_random(static_cast<std::uint64_t>(lo + i) * 1024 + static_cast<std::uint64_t>(j));
+  project_out(Y, BY, X);
+  cols.multiply(p.B, X, BX);
+  if (orthonormalize(X, BX, nullptr) < m) {
+    res.failure = "broke down: the start block is rank deficient";
+    return res;
+  }
+  cols.multiply(p.A, X, AX);
+  VectorXd lambda;
+  std::vector<MatrixXd> c;
+  if (!rayleigh_ritz({{&X}, {&AX}, {&BX}}, m, lambda, c)) {
+    res.failure = "broke down: the start block is rank deficient";
+    return res;
+  }
+  combine(X, c[0], 0, tmp), X.swap(tmp);
+  combine(AX, c[0], 0, tmp), AX.swap(tmp);
+  combine(BX, c[0], 0, tmp), BX.swap(tmp);
+
+  const double scale = std::sqrt(o.mass_per_dof);
+  bool fresh = true;  // AX and BX are exact products (not updated by combinations)
+  std::vector<long> active;
+  for (int it = 1;; ++it) {
+    // Residuals and the convergence test.
+    R = AX - BX * lambda.asDiagonal();
+    VectorXd local = R.colwise().squaredNorm().transpose(), norm2(m);
+    MPI_Allreduce(local.data(), norm2.data(), static_cast<int>(m), MPI_DOUBLE, MPI_SUM,
+                  PETSC_COMM_WORLD);
+    MPI_Bcast(norm2.data(), static_cast<int>(m), MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+    active.clear();
+    res.converged = 0;
+    res.worst = 0;
+    for (long j = 0; j < m; ++j) {
+      const double err = std::sqrt(norm2[j]) / (std::max(std::abs(lambda[j]), o.floor) * scale);
+      const bool ok = err < o.tolerance;
+      if (j < o.nev) {
+        res.worst = std::max(res.worst, err);
+        res.converged += ok;
+      }
+      if (j >= o.nev || !ok) active.push_back(j);
+    }
+    res.iterations = it - 1;
+    if (o.monitor && it > 1) o.monitor(res.iterations, res.converged, res.worst);
+    if (res.converged == o.nev) {
+      if (fresh) break;
+      // The updated products drift by round-off: test once more on exact ones.
+      cols.multiply(p.A, X, AX);
+      cols.multiply(p.B, X, BX);
+      fresh = true;
+      --it;
+      continue;
+    }
+    if (it > o.max_iterations) {
+      res.failure = "did not converge";
+      break;
+    }
+    // New directions: the preconditioned residuals of the active pairs, B-orthogonal to Y and X.
+    MatrixXd RJ(nloc, static_cast<long>(active.size()));
+    for (std::size_t j = 0; j < active.size(); ++j) RJ.col(j) = R.col(active[j]);
+    cols.solve(p.precondition, RJ, W);
+    project_out(Y, BY, W);
+    project_out(X, BX, W);
+    cols.multiply(p.B, W, BW);
+    orthonormalize(W, BW, nullptr);
+    if (W.cols() == 0) {
+      res.failure = "broke down: the preconditioned residuals lie in the iterate";
+      break;
+    }
+    cols.multiply(p.A, W, AW);
+    if (P.cols() > 0) orthonormalize(P, BP, &AP);
+
+    if (!rayleigh_ritz({{&X, &W, &P}, {&AX, &AW, &AP}, {&BX, &BW, &BP}}, m, lambda, c)) {
+      res.failure = "broke down: the basis lost rank";
+      break;
+    }
+    // D = W Cw + P Cp; the new X = X Cx + D, the new P = D on the active columns.
+    const auto next = [&](MatrixXd& U, const MatrixXd& WU, MatrixXd& PU) {
+      MatrixXd d;
+      combine(WU, c[1], 0, d);
+      combine(PU, c[2], 1, d);
+      MatrixXd dir(nloc, static_cast<long>(active.size()));
+      for (std::size_t j = 0; j < active.size(); ++j) dir.col(j) = d.col(active[j]);
+      combine(U, c[0], 1, d);
+      U.swap(d);
+      PU.swap(dir);
+    };
+    next(X, W, P);
+    next(AX, AW, AP);
+    next(BX, BW, BP);
+    fresh = false;
+  }
+  res.values = lambda.head(o.nev);
+  res.vectors = X.leftCols(o.nev);
+  return res;
+}
+
+}  // namespace hexfem
