@@ -232,7 +232,7 @@ int run(const Args& a) {
       r.num_free_dofs, r.num_fixed_dofs, r.stiffness_nnz, r.total_mass, r.volume);
   if (r.eigen.method == "iterative")
     std::printf(
-        "solver    iterative (SLEPc %s + PETSc GAMG, %d rank%s; %s): assembly %.2f s, AMG "
+        "solver    iterative (%s + PETSc GAMG, %d rank%s; %s): assembly %.2f s, AMG "
         "setup %.2f s, eigensolver %.2f s (%ld iterations), max residual %.1e, peak memory "
         "%.2f GB\n\n",
         r.eigen.algorithm.c_str(), r.eigen.ranks, r.eigen.ranks > 1 ? "s" : "",

@@ -25,7 +25,7 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                  "element order: 1 (hex8, wedge6, pyramid5, tet4; default) or 2 (hex20, wedge15, "
                  "pyramid13, tet10; boundary nodes on the CAD geometry)");
   sub.add_option("--solver", o.solver,
-                 "direct (CHOLMOD), iterative (SLEPc LOBPCG + GAMG; also under mpirun) or auto "
+                 "direct (CHOLMOD), iterative (LOBPCG + GAMG; also under mpirun) or auto "
                  "(default: by DOF count and the estimated factor memory)");
   sub.add_flag("--conformal", o.conformal,
                "CAD input: a mesh with no NC face (each made conformal with a pyramid and tets)");

@@ -319,6 +319,24 @@ void attach_near_null_space(const MixedMesh& mesh, const Layout& L, double lengt
   HEXFEM_PETSC(VecDestroy(&coords));
 }
 
+// The settings of our own LOBPCG and V-cycle, overridable at run time like PETSc's:
+// PETSC_OPTIONS="-lobpcg_extra_columns 4 -lobpcg_chebyshev_steps 1 -lobpcg_block_vcycle 0".
+IterativeSettings with_option_overrides(IterativeSettings s) {
+  PetscBool set = PETSC_FALSE, flag = PETSC_FALSE;
+  PetscInt v = 0;
+  HEXFEM_PETSC(PetscOptionsGetInt(nullptr, nullptr, "-lobpcg_extra_columns", &v, &set));
+  if (set) s.extra_block_columns = static_cast<int>(std::max<PetscInt>(0, v));
+  HEXFEM_PETSC(PetscOptionsGetInt(nullptr, nullptr, "-lobpcg_chebyshev_steps", &v, &set));
+  if (set) s.chebyshev_steps = static_cast<int>(std::max<PetscInt>(1, v));
+  HEXFEM_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-lobpcg_block_vcycle", &flag, &set));
+  if (set) s.block_vcycle = flag;
+  return s;
+}
+
+long lo_block(const IterativeSettings& s, int nev) {
+  return s.block_size > 0 ? s.block_size : nev + s.extra_block_columns;
+}
+
 // Progress on stderr (rank 0, terminals only) and the residual reached, for the error message.
 struct Monitor {
   int nev = 0;
@@ -534,7 +552,7 @@ void collect(const std::function<double(int, Vec)>& mode, const Matrices& mats, 
 JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
                             const JobParams& job) {
   const int rank = mpi_rank(), size = mpi_size();
-  const IterativeSettings& s = job.settings;
+  const IterativeSettings s = with_option_overrides(job.settings);
   JobOutput out;
   auto t0 = Clock::now();
   const NodeTies ties = nc_face_ties(mesh, fixed);  // the same on every rank
@@ -633,15 +651,21 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
       problem.precondition = [&](Mat in, Mat o) { HEXFEM_PETSC(KSPMatSolve(pc_ksp, in, o)); };
     LobpcgOptions lo;
     lo.nev = nev;
-    lo.block = s.block_size > 0 ? s.block_size : nev + s.extra_block_columns;
+    lo.block = lo_block(s, nev);
     lo.tolerance = s.tolerance;
     lo.max_iterations = s.max_iterations;
     // The test of a pair (x M-normalized): |Kx - λMx| / (max(|λ|, floor) sqrt(mass per DOF)),
     // about |r|_{M^-1} / λ, dimensionless; a floor for λ ≈ 0.
     lo.floor = s.floor_fraction * lambda_scale;
     lo.mass_per_dof = out.total_mass / std::max(1L, n);
+    PetscBool log_iterations = PETSC_FALSE;  // PETSC_OPTIONS="-lobpcg_monitor": one line each
+    HEXFEM_PETSC(
+        PetscOptionsGetBool(nullptr, nullptr, "-lobpcg_monitor", &log_iterations, nullptr));
     if (rank == 0)
-      lo.monitor = [nev](int its, int nconv, double) {
+      lo.monitor = [nev, log_iterations](int its, int nconv, double worst) {
+        if (log_iterations)
+          std::fprintf(stderr, "lobpcg iteration %d: %d of %d converged, largest error %.3g\n", its,
+                       nconv, nev, worst);
         show_progress("eigensolver iteration " + std::to_string(its) + ": " +
                       std::to_string(nconv) + " of " + std::to_string(nev) + " modes converged");
       };
@@ -668,7 +692,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
       const std::string lobpcg_brief = brief;
       const std::string ks_failed = krylov_schur(ks_mon);
       used_eps = true;
-      out.algorithm = "Krylov-Schur shift-invert, CG + GAMG (LOBPCG: " + lobpcg_brief + ")";
+      out.algorithm = "SLEPc Krylov-Schur shift-invert, CG + GAMG (LOBPCG: " + lobpcg_brief + ")";
       failed = ks_failed.empty() ? "" : ks_failed + " (after LOBPCG: " + failed + ")";
     }
     if (!failed.empty()) throw Error(failed);

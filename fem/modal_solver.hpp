@@ -50,7 +50,7 @@ struct EigenResult {
 // the request exceeds the size or the iteration does not converge.
 EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const EigenOptions& options);
 
-// --solver: direct (CHOLMOD + Spectra), iterative (SLEPc LOBPCG + GAMG, MPI-capable), or auto
+// --solver: direct (CHOLMOD + Spectra), iterative (LOBPCG + PETSc GAMG, MPI-capable), or auto
 // (by DOF count and the estimated factor memory against the free memory).
 enum class SolverChoice { Direct, Iterative, Auto };
 inline constexpr long kAutoDirectMaxDofs = 150000;

@@ -5,10 +5,12 @@
 //       wall time, peak memory (each run in its own child process, getrusage) and the same mesh
 //       through CalculiX in the same run. Default k = 14 21 32 (~95k, ~306k, ~1.05M DOF).
 //       --ccx-mem-gb / --ccx-cpu-s cap ccx's address space / CPU time (it then counts as failed).
-//   iterative [k ...] [--no-direct]
+//   iterative [k ...] [--no-direct] [--ranks N --hexfem PATH]
 //       the same cantilevers through both paths in one run, each in its own child process:
-//       direct (CHOLMOD + Spectra) and iterative (SLEPc LOBPCG + GAMG) time, peak memory, ratios
-//       and the largest relative difference of f1-f10. Default k = 14 21 32.
+//       direct (CHOLMOD + Spectra) and iterative (LOBPCG + GAMG) time, peak memory, ratios
+//       and the largest relative difference of f1-f10. Default k = 14 21 32. --ranks N adds
+//       the iterative path under `mpirun -n N PATH modal` on the same mesh written to a file
+//       (its report's assembly + setup + solve; peak memory summed over the ranks).
 //   write-mesh k file.msh   the k cantilever as a mesh file (for `mpirun ... hexfem modal`).
 //   ccx          hexfem vs ccx C3D8/C3D6/C3D4 on the 40x4x4 cantilever, relative differences.
 //   convergence  tet4 / wedge6 / pyramid+tet cantilevers converging towards hex8.
@@ -24,17 +26,19 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "fem/boundary.hpp"
-#include "tests/support/ccx_reference.hpp"
 #include "fem/modal_solver.hpp"
 #include "mesher/mesh/conformity.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 #include "mesher/mesh/structured_box.hpp"
+#include "tests/support/ccx_reference.hpp"
 
 using namespace hexfem;
 
@@ -236,14 +240,45 @@ std::string load_average() {
   return getloadavg(l, 3) == 3 ? std::to_string(l[0]).substr(0, 4) : "?";
 }
 
+// The iterative path under `mpirun -n ranks hexfem modal` on the same cantilever written to a
+// file: its report's assembly, setup and solve times, summed peak memory and iterations.
+// Fields as run_path's; ok = false when the run fails.
+ChildResult run_mpi(int k, int ranks, const std::string& hexfem, int modes) {
+  ChildResult r;
+  const std::filesystem::path dir = scratch("mpi_" + std::to_string(k));
+  const std::string mesh = (dir / "cantilever.msh").string(), json = (dir / "report.json").string();
+  write_mesh(make_box_mesh({100, 10, 10}, 10 * k, k, k, CellKind::Hex8), mesh);
+  const std::string cmd = "OMP_NUM_THREADS=1 mpirun --allow-run-as-root -x OMP_NUM_THREADS -n " +
+                          std::to_string(ranks) + " " + hexfem + " modal " + mesh +
+                          " --units mm --fix face:1 --hex8 full --solver iterative --modes " +
+                          std::to_string(modes) + " --json > " + json;
+  if (std::system(cmd.c_str()) != 0) return r;
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const auto& s = j.at("solver");
+  const double a = s.at("assemble_s"), su = s.at("setup_s"), so = s.at("solve_s");
+  r.values = {double(j.at("free_dofs")),   a, su, so, a + su + so, double(s.at("iterations")),
+              double(s.at("max_residual"))};
+  for (const auto& m : j.at("modes")) r.values.push_back(m.at("frequency_hz"));
+  r.peak_rss_kb = static_cast<long>(double(s.at("peak_memory_bytes")) / 1024.0);
+  r.ok = true;
+  return r;
+}
+
 int iterative_study(const std::vector<std::string>& args) {
   std::vector<int> ks;
   bool direct = true;
-  for (const std::string& a : args) {
-    if (a == "--no-direct")
+  int ranks = 0;
+  std::string hexfem = "hexfem";
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--no-direct")
       direct = false;
+    else if (args[i] == "--ranks" && i + 1 < args.size())
+      ranks = std::stoi(args[++i]);
+    else if (args[i] == "--hexfem" && i + 1 < args.size())
+      hexfem = args[++i];
     else
-      ks.push_back(std::stoi(a));
+      ks.push_back(std::stoi(args[i]));
   }
   if (ks.empty()) ks = {14, 21, 32};
   const int modes = 10;
@@ -252,33 +287,36 @@ int iterative_study(const std::vector<std::string>& args) {
       "iterations | residual | load | f1 Hz "
       "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int k : ks) {
-    ChildResult res[2];
+    ChildResult res[3];
     const SolverChoice paths[2] = {SolverChoice::Direct, SolverChoice::Iterative};
-    for (int p = direct ? 0 : 1; p < 2; ++p) {
+    const std::string mpi_name = "iterative, " + std::to_string(ranks) + " ranks";
+    const char* names[3] = {"direct", "iterative", mpi_name.c_str()};
+    for (int p = direct ? 0 : 1; p < (ranks > 1 ? 3 : 2); ++p) {
       const std::string load = load_average();
-      res[p] = run_path(k, paths[p], modes);
+      res[p] = p < 2 ? run_path(k, paths[p], modes) : run_mpi(k, ranks, hexfem, modes);
       const auto& v = res[p].values;
       if (!res[p].ok) {
         std::printf("| %dx%dx%d | | %s | failed | | | | %.0f | | | %s | |\n", 10 * k, k, k,
-                    p ? "iterative" : "direct", res[p].peak_rss_kb / 1024.0, load.c_str());
+                    names[p], res[p].peak_rss_kb / 1024.0, load.c_str());
         continue;
       }
       std::printf(
           "| %dx%dx%d | %.0f | %s | %.2f | %.2f | %.2f | %.2f | %.0f | %.0f | %.1e | %s | "
           "%.4f |\n",
-          10 * k, k, k, v[0], p ? "iterative" : "direct", v[1], v[2], v[3], v[4],
-          res[p].peak_rss_kb / 1024.0, v[5], v[6], load.c_str(), v[7]);
+          10 * k, k, k, v[0], names[p], v[1], v[2], v[3], v[4], res[p].peak_rss_kb / 1024.0, v[5],
+          v[6], load.c_str(), v[7]);
       std::fflush(stdout);
     }
-    if (direct && res[0].ok && res[1].ok) {
+    for (int p = 1; p < 3; ++p) {
+      if (!direct || !res[0].ok || !res[p].ok) continue;
       double diff = 0;
       for (int i = 0; i < modes; ++i)
-        diff = std::max(diff, std::abs(res[1].values[7 + i] / res[0].values[7 + i] - 1));
+        diff = std::max(diff, std::abs(res[p].values[7 + i] / res[0].values[7 + i] - 1));
       std::printf(
-          "| | | **ratio direct / iterative** | | | | **%.2f x** | **%.2f x** | | max rel. "
+          "| | | **ratio direct / %s** | | | | **%.2f x** | **%.2f x** | | max rel. "
           "diff f1-f10 %.1e | | |\n",
-          res[0].values[4] / res[1].values[4],
-          double(res[0].peak_rss_kb) / double(res[1].peak_rss_kb), diff);
+          names[p], res[0].values[4] / res[p].values[4],
+          double(res[0].peak_rss_kb) / double(res[p].peak_rss_kb), diff);
     }
   }
   return 0;
