@@ -328,6 +328,11 @@ IterativeSettings with_option_overrides(IterativeSettings s) {
   if (set) s.extra_block_columns = static_cast<int>(std::max<PetscInt>(0, v));
   HEXFEM_PETSC(PetscOptionsGetInt(nullptr, nullptr, "-lobpcg_chebyshev_steps", &v, &set));
   if (set) s.chebyshev_steps = static_cast<int>(std::max<PetscInt>(1, v));
+  PetscReal r = 0;
+  HEXFEM_PETSC(PetscOptionsGetReal(nullptr, nullptr, "-lobpcg_chebyshev_low", &r, &set));
+  if (set) s.chebyshev_low = r;
+  HEXFEM_PETSC(PetscOptionsGetReal(nullptr, nullptr, "-lobpcg_tolerance", &r, &set));
+  if (set) s.tolerance = r;
   HEXFEM_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-lobpcg_block_vcycle", &flag, &set));
   if (set) s.block_vcycle = flag;
   return s;
@@ -642,7 +647,8 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     PC pc;
     HEXFEM_PETSC(KSPGetPC(pc_ksp, &pc));
     std::unique_ptr<BlockVcycle> vcycle;
-    if (s.block_vcycle) vcycle = std::make_unique<BlockVcycle>(pc, s.chebyshev_steps);
+    if (s.block_vcycle)
+      vcycle = std::make_unique<BlockVcycle>(pc, s.chebyshev_steps, s.chebyshev_low);
     out.setup_seconds += seconds_since(t_setup);
     LobpcgProblem problem{mats.K, mats.M, nullptr, rigid.vectors};
     if (vcycle)

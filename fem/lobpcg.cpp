@@ -76,16 +76,16 @@ struct Columns {
   }
   // Blocks as PETSc dense matrices over the same storage: a block product reads A once for
   // several columns, and a block V-cycle smooths them together (PCMatApply).
-  Mat dense(const MatrixXd& a) {
+  Mat dense(const double* a, Eigen::Index rows, Eigen::Index ncols) {
     Mat d;
-    HEXFEM_PETSC(MatCreateDense(PETSC_COMM_WORLD, a.rows(), PETSC_DECIDE, PETSC_DETERMINE, a.cols(),
-                                const_cast<double*>(a.data()), &d));
+    HEXFEM_PETSC(MatCreateDense(PETSC_COMM_WORLD, rows, PETSC_DECIDE, PETSC_DETERMINE, ncols,
+                                const_cast<double*>(a), &d));
     return d;
   }
   void multiply(Mat A, const MatrixXd& in, MatrixXd& out) {
     out.resize(in.rows(), in.cols());
     if (in.cols() == 0) return;
-    Mat b = dense(in), c = dense(out);
+    Mat b = dense(in.data(), in.rows(), in.cols()), c = dense(out.data(), out.rows(), out.cols());
     HEXFEM_PETSC(MatProductCreateWithMat(A, b, nullptr, c));
     HEXFEM_PETSC(MatProductSetType(c, MATPRODUCT_AB));
     HEXFEM_PETSC(MatProductSetFromOptions(c));
@@ -94,10 +94,11 @@ struct Columns {
     MatDestroy(&b);
     MatDestroy(&c);
   }
-  void solve(const std::function<void(Mat, Mat)>& precondition, const MatrixXd& in, MatrixXd& out) {
+  void solve(const std::function<void(Mat, Mat)>& precondition,
+             const Eigen::Ref<const MatrixXd>& in, MatrixXd& out) {
     out.resize(in.rows(), in.cols());
     if (in.cols() == 0) return;
-    Mat b = dense(in), c = dense(out);
+    Mat b = dense(in.data(), in.rows(), in.cols()), c = dense(out.data(), out.rows(), out.cols());
     precondition(b, c);
     MatDestroy(&b);
     MatDestroy(&c);
@@ -217,7 +218,7 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
   cols.multiply(p.B, Y, BY);
 
   // Start: a random block, B-orthogonal to Y, B-orthonormal, then its Ritz vectors.
-  MatrixXd X(nloc, m), AX, BX, W, AW, BW, P, AP, BP, R, tmp;
+  MatrixXd X(nloc, m), AX, BX, W, AW, BW, P, AP, BP, R, dir, tmp;
   for (long j = 0; j < m; ++j)
     for (PetscInt i = 0; i < nloc; ++i)
       X(i, j) =
@@ -277,9 +278,9 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
       break;
     }
     // New directions: the preconditioned residuals of the active pairs, B-orthogonal to Y and X.
-    MatrixXd RJ(nloc, static_cast<long>(active.size()));
-    for (std::size_t j = 0; j < active.size(); ++j) RJ.col(j) = R.col(active[j]);
-    cols.solve(p.precondition, RJ, W);
+    for (std::size_t j = 0; j < active.size(); ++j)  // the active residuals to the front of R
+      if (static_cast<long>(j) != active[j]) R.col(j) = R.col(active[j]);
+    cols.solve(p.precondition, R.leftCols(static_cast<long>(active.size())), W);
     project_out(Y, BY, W);
     project_out(X, BX, W);
     cols.multiply(p.B, W, BW);
@@ -295,15 +296,16 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
       res.failure = "broke down: the basis lost rank";
       break;
     }
-    // D = W Cw + P Cp; the new X = X Cx + D, the new P = D on the active columns.
+    // D = W Cw + P Cp; the new X = X Cx + D, the new P = D on the active columns. R (dead
+    // until the next residuals) and dir are the scratch blocks: swapping keeps every block's
+    // storage in use, so no block is allocated per iteration.
     const auto next = [&](MatrixXd& U, const MatrixXd& WU, MatrixXd& PU) {
-      MatrixXd d;
-      combine(WU, c[1], 0, d);
-      combine(PU, c[2], 1, d);
-      MatrixXd dir(nloc, static_cast<long>(active.size()));
-      for (std::size_t j = 0; j < active.size(); ++j) dir.col(j) = d.col(active[j]);
-      combine(U, c[0], 1, d);
-      U.swap(d);
+      combine(WU, c[1], 0, R);
+      combine(PU, c[2], 1, R);
+      dir.resize(nloc, static_cast<long>(active.size()));
+      for (std::size_t j = 0; j < active.size(); ++j) dir.col(j) = R.col(active[j]);
+      combine(U, c[0], 1, R);
+      U.swap(R);
       PU.swap(dir);
     };
     next(X, W, P);
