@@ -101,6 +101,19 @@ TEST(Iterative, PartlyFixedNodesAndMixedKindsMatchDirect) {
   }
 }
 
+// The same LOBPCG with PETSc's own (column-by-column) V-cycle instead of fem/block_vcycle.cpp,
+// and with no extra block columns: both still the direct path's frequencies.
+TEST(Iterative, ColumnwiseVcycleAndBareBlockMatchDirect) {
+  const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
+  ModalOptions opt = steel(8, {"face:1"}, SolverChoice::Iterative);
+  opt.iterative.block_vcycle = false;
+  compare(mesh, opt, "cantilever, PETSc's V-cycle");
+  opt.iterative.block_vcycle = true;
+  opt.iterative.extra_block_columns = 0;
+  opt.iterative.chebyshev_steps = 1;
+  compare(mesh, opt, "cantilever, block 8, 1 smoothing step");
+}
+
 TEST(Iterative, NonConvergenceIsAnErrorWithTheResidual) {
   const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
   ModalOptions opt = steel(10, {"face:1"}, SolverChoice::Iterative);
