@@ -17,6 +17,7 @@
 #include "fem/boundary.hpp"
 #include "fem/element.hpp"
 #include "fem/hex8_incompatible.hpp"
+#include "fem/krylov_schur.hpp"
 #include "fem/lobpcg.hpp"
 #include "fem/nc_ties.hpp"
 #include "fem/petsc_env.hpp"
@@ -342,62 +343,6 @@ long lo_block(const IterativeSettings& s, int nev) {
   return s.block_size > 0 ? s.block_size : nev + s.extra_block_columns;
 }
 
-// Progress on stderr (rank 0, terminals only) and the residual reached, for the error message.
-struct Monitor {
-  int nev = 0;
-  double worst = 0;  // largest error estimate among the wanted pairs at the last iteration
-  long iterations = 0;
-};
-PetscErrorCode monitor(EPS, PetscInt its, PetscInt nconv, PetscScalar*, PetscScalar*,
-                       PetscReal* errest, PetscInt nest, void* ctx) {
-  auto* m = static_cast<Monitor*>(ctx);
-  m->iterations = its;
-  m->worst = 0;
-  for (PetscInt i = 0; i < std::min<PetscInt>(nest, m->nev); ++i)
-    m->worst = std::max(m->worst, static_cast<double>(errest[i]));
-  if (mpi_rank() == 0)
-    show_progress("eigensolver iteration " + std::to_string(its) + ": " + std::to_string(nconv) +
-                  " of " + std::to_string(m->nev) + " modes converged");
-  return 0;
-}
-
-// The same GAMG on K - σM for either method.
-void configure_gamg(KSP ksp, const IterativeSettings& s) {
-  PC pc;
-  HEXFEM_PETSC(KSPGetPC(ksp, &pc));
-  HEXFEM_PETSC(PCSetType(pc, PCGAMG));
-  HEXFEM_PETSC(PCGAMGSetType(pc, PCGAMGAGG));
-  HEXFEM_PETSC(PCGAMGSetNSmooths(pc, s.gamg_smooths));
-  PetscReal threshold[1] = {s.gamg_threshold};
-  HEXFEM_PETSC(PCGAMGSetThreshold(pc, threshold, 1));
-  HEXFEM_PETSC(PCGAMGSetCoarseEqLim(pc, s.gamg_coarse_eq_limit));
-}
-
-// The fallback: Krylov-Schur on (K - σM)^-1 M, each solve by CG + GAMG. K - σM is positive
-// definite, so target 0 and the largest |θ| = 1 / (λ - σ).
-void configure_krylov_schur(EPS eps, const JobParams& job, Monitor* mon) {
-  const IterativeSettings& s = job.settings;
-  HEXFEM_PETSC(EPSSetProblemType(eps, EPS_GHEP));
-  HEXFEM_PETSC(EPSSetDimensions(eps, job.num_modes, PETSC_DEFAULT, PETSC_DEFAULT));
-  HEXFEM_PETSC(EPSMonitorSet(eps, monitor, mon, nullptr));
-  // Its own options prefix: PETSC_OPTIONS="-ks_eps_ncv 40 -ks_st_ksp_rtol 1e-12" tunes it
-  // apart from LOBPCG's preconditioner ("-st_...").
-  HEXFEM_PETSC(EPSSetOptionsPrefix(eps, "ks_"));
-  HEXFEM_PETSC(EPSSetType(eps, EPSKRYLOVSCHUR));
-  HEXFEM_PETSC(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
-  HEXFEM_PETSC(EPSSetTarget(eps, 0.0));
-  HEXFEM_PETSC(EPSSetTolerances(eps, s.krylov_schur_tolerance, s.krylov_schur_max_iterations));
-  ST st;
-  KSP ksp;
-  HEXFEM_PETSC(EPSGetST(eps, &st));
-  HEXFEM_PETSC(STSetType(st, STSINVERT));
-  HEXFEM_PETSC(STGetKSP(st, &ksp));
-  HEXFEM_PETSC(KSPSetType(ksp, KSPCG));
-  HEXFEM_PETSC(KSPSetTolerances(ksp, s.cg_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
-  configure_gamg(ksp, s);
-  HEXFEM_PETSC(EPSSetFromOptions(eps));  // PETSC_OPTIONS overrides
-}
-
 // Unit translation along d on the free DOFs.
 void translation(const Layout& L, const std::vector<std::uint8_t>& fixed, int d, Vec r) {
   PetscScalar* a;
@@ -406,30 +351,6 @@ void translation(const Layout& L, const std::vector<std::uint8_t>& fixed, int d,
     for (int b = 0; b < 3; ++b)
       a[3 * (p - L.begin) + b] = (b == d && !fixed[3 * L.order[p] + b]) ? 1.0 : 0.0;
   HEXFEM_PETSC(VecRestoreArray(r, &a));
-}
-
-std::string failure_message(EPS eps, const JobParams& job, const Monitor& mon, long n,
-                            bool breakdown = false) {
-  PetscInt nconv = 0, its = 0, max_its = 0;
-  PetscReal tol = job.settings.tolerance;
-  EPSConvergedReason reason;
-  EPSType type = nullptr;
-  EPSGetConverged(eps, &nconv);
-  EPSGetIterationNumber(eps, &its);
-  EPSGetConvergedReason(eps, &reason);
-  EPSGetTolerances(eps, &tol, &max_its);  // PETSC_OPTIONS may have changed them
-  EPSGetType(eps, &type);
-  char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "the iterative eigensolver (%s + GAMG) %s: %ld of %d modes converged after "
-                "%ld iterations, residual reached %.3g (tolerance %.3g, %ld DOFs); try "
-                "--solver direct",
-                type ? type : "lobpcg",
-                breakdown || reason == EPS_DIVERGED_BREAKDOWN ? "broke down" : "did not converge",
-                static_cast<long>(std::min<PetscInt>(nconv, job.num_modes)), job.num_modes,
-                std::max(static_cast<long>(its), mon.iterations), mon.worst,
-                static_cast<double>(tol), n);
-  return buf;
 }
 
 // The rigid motions no fixed DOF holds (all six for a free structure), as vectors of this
@@ -597,39 +518,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     ~EpsGuard() { EPSDestroy(&e); }
   } guard{eps};
   if (nev > 0) {
-    JobParams elastic = job;
-    elastic.num_modes = nev;
-    std::string brief;  // how the last attempt ended, in a few words
-    // Returns an empty string on success, else why it failed (eps keeps the attempt's state).
-    const auto krylov_schur = [&](Monitor& mon) -> std::string {
-      EPSDestroy(&eps);
-      HEXFEM_PETSC(EPSCreate(PETSC_COMM_WORLD, &eps));
-      HEXFEM_PETSC(EPSSetOperators(eps, mats.K, mats.M));
-      if (num_rigid > 0) HEXFEM_PETSC(EPSSetDeflationSpace(eps, num_rigid, rigid.vectors.data()));
-      configure_krylov_schur(eps, elastic, &mon);
-      const auto t_setup = Clock::now();
-      HEXFEM_PETSC(EPSSetUp(eps));
-      out.setup_seconds += seconds_since(t_setup);
-      const PetscErrorCode solved = EPSSolve(eps);
-      if (rank == 0) end_progress();
-      if (solved != 0) {  // a breakdown (e.g. an indefinite Gram matrix): say how far it got
-        std::string detail;
-        try {
-          HEXFEM_PETSC(solved);
-        } catch (const Error& e) {
-          detail = e.what();
-        }
-        brief = "broke down after " + std::to_string(mon.iterations) + " iterations";
-        return failure_message(eps, elastic, mon, n, true) + " [" + detail + "]";
-      }
-      PetscInt nconv = 0, its = 0;
-      HEXFEM_PETSC(EPSGetConverged(eps, &nconv));
-      HEXFEM_PETSC(EPSGetIterationNumber(eps, &its));
-      out.iterations += its;
-      brief = std::to_string(std::min<PetscInt>(nconv, nev)) + " of " + std::to_string(nev) +
-              " modes converged after " + std::to_string(its) + " iterations";
-      return nconv < nev ? failure_message(eps, elastic, mon, n) : std::string();
-    };
+    std::string brief;  // how LOBPCG ended, in a few words
     // LOBPCG (fem/lobpcg.cpp), preconditioned by one GAMG V-cycle on K - σM.
     KSP pc_ksp;
     HEXFEM_PETSC(KSPCreate(PETSC_COMM_WORLD, &pc_ksp));
@@ -694,9 +583,11 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     }
     if (!failed.empty() && s.krylov_schur_fallback) {
       // LOBPCG stalls where a cluster of modes straddles its block; shift-and-invert does not.
-      Monitor ks_mon{nev};
-      const std::string lobpcg_brief = brief;
-      const std::string ks_failed = krylov_schur(ks_mon);
+      HEXFEM_PETSC(EPSCreate(PETSC_COMM_WORLD, &eps));
+      const KrylovSchurRun ks = krylov_schur(eps, mats.K, mats.M, rigid.vectors, nev, s, n);
+      out.setup_seconds += ks.setup_seconds;
+      out.iterations += ks.iterations;
+      const std::string lobpcg_brief = brief, ks_failed = ks.failure;
       used_eps = true;
       out.algorithm = "SLEPc Krylov-Schur shift-invert, CG + GAMG (LOBPCG: " + lobpcg_brief + ")";
       failed = ks_failed.empty() ? "" : ks_failed + " (after LOBPCG: " + failed + ")";

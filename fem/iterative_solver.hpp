@@ -1,7 +1,9 @@
 // The iterative path of solve_modal (--solver iterative): K and M in distributed PETSc matrices
 // (block size 3, one block per node, nodes in a space-filling-curve order cut into one
 // contiguous range per MPI rank), the six rigid-body motions from the coordinates as GAMG's
-// near-null space, and SLEPc's LOBPCG for the lowest modes. Settings: iterative_settings.hpp.
+// near-null space, our block LOBPCG (lobpcg.cpp) with a block V-cycle over GAMG (block_vcycle.cpp)
+// for the lowest modes, SLEPc Krylov-Schur as the fallback (krylov_schur.cpp). Settings:
+// iterative_settings.hpp.
 //
 // One process, or `mpirun -n N hexfem ...`: rank 0 reads the input, meshes, writes every
 // output; the other ranks wait in MpiSession::serve() and take part in each solve.
