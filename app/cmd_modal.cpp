@@ -234,10 +234,11 @@ int run(const Args& a) {
     std::printf(
         "solver    iterative (%s + PETSc GAMG, %d rank%s; %s): assembly %.2f s, AMG "
         "setup %.2f s, eigensolver %.2f s (%ld iterations), max residual %.1e, peak memory "
-        "%.2f GB\n\n",
+        "%.2f GB (%.2f GB by the end of assembly, %.2f GB of AMG setup)\n\n",
         r.eigen.algorithm.c_str(), r.eigen.ranks, r.eigen.ranks > 1 ? "s" : "",
         r.solver_reason.c_str(), r.assemble_seconds, r.eigen.setup_seconds, r.eigen.solve_seconds,
-        r.eigen.iterations, r.eigen.max_residual, r.eigen.peak_memory_bytes / 1e9);
+        r.eigen.iterations, r.eigen.max_residual, r.eigen.peak_memory_bytes / 1e9,
+        r.eigen.peak_memory_assembly_bytes / 1e9, r.eigen.peak_memory_setup_bytes / 1e9);
   else
     std::printf(
         "solver    direct (CHOLMOD + Spectra; %s): order %.2f s, assembly %.2f s, factorization "

@@ -34,6 +34,10 @@ void to_json(nlohmann::json& j, const ModalResult& r) {
   j["solver"]["solve_s"] = r.eigen.solve_seconds;
   j["solver"]["iterations"] = r.eigen.iterations;
   j["solver"]["peak_memory_bytes"] = r.eigen.peak_memory_bytes;
+  if (r.eigen.method == "iterative") {
+    j["solver"]["peak_memory_after_assembly_bytes"] = r.eigen.peak_memory_assembly_bytes;
+    j["solver"]["peak_memory_after_setup_bytes"] = r.eigen.peak_memory_setup_bytes;
+  }
   j["solver"]["ranks"] = r.eigen.ranks;
 }
 

@@ -60,6 +60,7 @@ struct JobOutput {
   std::string algorithm;  // LOBPCG, or the fallback and why
   double max_residual = 0;
   double peak_memory_bytes = 0;
+  double peak_after_assembly = 0, peak_after_setup = 0;  // this rank's, summed at the end
   long num_free = 0, num_fixed = 0;
   long stiffness_nnz = 0;  // entries of K over all ranks (decoupled fixed rows included)
 };
@@ -501,6 +502,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   out.total_mass = assemble(mesh, fixed, ties, L, job, sigma, lambda_spurious, mats);
   attach_near_null_space(mesh, L, job.length_scale, mats.K);
   out.assemble_seconds = seconds_since(t0);
+  out.peak_after_assembly = peak_rss_bytes();
   MatInfo info;
   HEXFEM_PETSC(MatGetInfo(mats.K, MAT_GLOBAL_SUM, &info));
   out.stiffness_nnz = static_cast<long>(info.nz_used);
@@ -539,6 +541,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     if (s.block_vcycle)
       vcycle = std::make_unique<BlockVcycle>(pc, s.chebyshev_steps, s.chebyshev_low);
     out.setup_seconds += seconds_since(t_setup);
+    out.peak_after_setup = peak_rss_bytes();
     LobpcgProblem problem{mats.K, mats.M, nullptr, rigid.vectors};
     if (vcycle)
       problem.precondition = [&](Mat in, Mat o) { vcycle->apply(in, o); };
@@ -614,7 +617,13 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   collect(mode, mats, L, fixed, ties, job, sigma, lambda_spurious,
           static_cast<long>(mesh.nodes.size()), out);
   const double peak = peak_rss_bytes();
-  MPI_Allreduce(&peak, &out.peak_memory_bytes, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  const double local[3] = {peak, out.peak_after_assembly,
+                           std::max(out.peak_after_setup, out.peak_after_assembly)};
+  double sum[3];
+  MPI_Allreduce(local, sum, 3, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  out.peak_memory_bytes = sum[0];
+  out.peak_after_assembly = sum[1];
+  out.peak_after_setup = sum[2];
   return out;
 }
 
@@ -682,6 +691,8 @@ ModalResult solve_modal_iterative(const MixedMesh& mesh, const ModalOptions& opt
   e.iterations = o.iterations;
   e.max_residual = o.max_residual;
   e.peak_memory_bytes = o.peak_memory_bytes;
+  e.peak_memory_assembly_bytes = o.peak_after_assembly;
+  e.peak_memory_setup_bytes = o.peak_after_setup;
   e.ranks = mpi_size();
   return r;
 }

@@ -43,6 +43,9 @@ struct EigenResult {
   std::string algorithm;  // iterative: "LOBPCG", or the Krylov-Schur fallback and why
   double setup_seconds = 0;
   double peak_memory_bytes = 0;
+  // iterative: the peak (summed over ranks) reached by the end of assembly and of the AMG setup
+  // (resident memory never falls from a peak, so the solve's own is peak_memory_bytes).
+  double peak_memory_assembly_bytes = 0, peak_memory_setup_bytes = 0;
   int ranks = 1;
 };
 
