@@ -1,5 +1,5 @@
 // Block LOBPCG (Knyazev 2001) for the lowest eigenpairs of A x = λ B x, A and B symmetric
-// positive definite PETSc matrices, preconditioned by a PETSc KSP (one AMG V-cycle). Written
+// positive definite PETSc matrices, preconditioned by a block operator (one AMG V-cycle). Written
 // for the iterative path (iterative_solver.cpp) because SLEPc 3.18's LOBPCG recomputes A and B
 // on the whole 3-block basis every iteration (about 40 + 40 products for 10 modes, against the
 // 10 + 10 new ones this one does): the basis' products are updated by the same linear
@@ -37,7 +37,7 @@ struct LobpcgOptions {
   double tolerance = 1e-6;
   int max_iterations = 200;
   // Convergence of a pair (x B-normalized): |Ax - λBx| / (max(|λ|, floor) sqrt(mass_per_dof))
-  // < tolerance, the test the SLEPc path used (iterative_solver.cpp).
+  // < tolerance (iterative_solver.cpp sets it from IterativeSettings, 1e-5).
   double floor = 0, mass_per_dof = 1;
   std::function<void(int iteration, int converged, double worst)> monitor;  // may be empty
 };
