@@ -9,8 +9,6 @@
 namespace hexfem {
 namespace {
 
-#define HEXFEM_PETSC(call) petsc_check((call), #call)
-
 // C = op(A) X into the existing dense C (type MATPRODUCT_AB or MATPRODUCT_AtB).
 void product(Mat A, Mat X, Mat C, MatProductType type) {
   HEXFEM_PETSC(MatProductCreateWithMat(A, X, nullptr, C));

@@ -33,8 +33,6 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-#define HEXFEM_PETSC(call) petsc_check((call), #call)
-
 enum Command : int { kQuit = 0, kSolve = 1 };
 
 // Everything but the mesh and the fixed mask that every rank needs for a solve (plain data,

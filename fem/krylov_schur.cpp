@@ -11,8 +11,6 @@
 namespace hexfem {
 namespace {
 
-#define HEXFEM_PETSC(call) petsc_check((call), #call)
-
 // Progress on stderr (rank 0, terminals only) and the residual reached, for the error message.
 struct Monitor {
   int nev = 0;

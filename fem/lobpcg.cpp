@@ -6,13 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 
 #include "fem/petsc_env.hpp"
 
 namespace hexfem {
 namespace {
-
-#define HEXFEM_PETSC(call) petsc_check((call), #call)
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -49,70 +48,48 @@ MatrixXd inner(const MatrixXd& U, const MatrixXd& V) {
   return sum;
 }
 
-// Column-by-column PETSc operations on blocks held as plain column-major arrays.
-struct Columns {
-  Vec x = nullptr, y = nullptr;  // wrappers without storage of their own
-  explicit Columns(Mat A) {
-    PetscInt nloc, N;
-    HEXFEM_PETSC(MatGetLocalSize(A, &nloc, nullptr));
-    HEXFEM_PETSC(MatGetSize(A, &N, nullptr));
-    HEXFEM_PETSC(VecCreateMPIWithArray(PETSC_COMM_WORLD, 3, nloc, N, nullptr, &x));
-    HEXFEM_PETSC(VecCreateMPIWithArray(PETSC_COMM_WORLD, 3, nloc, N, nullptr, &y));
-  }
-  ~Columns() {
-    VecDestroy(&x);
-    VecDestroy(&y);
-  }
-  template <class F>
-  void each(const MatrixXd& in, MatrixXd& out, F f) {
-    out.resize(in.rows(), in.cols());
-    for (Eigen::Index j = 0; j < in.cols(); ++j) {
-      HEXFEM_PETSC(VecPlaceArray(x, in.col(j).data()));
-      HEXFEM_PETSC(VecPlaceArray(y, out.col(j).data()));
-      f(x, y);
-      HEXFEM_PETSC(VecResetArray(x));
-      HEXFEM_PETSC(VecResetArray(y));
-    }
-  }
-  // Blocks as PETSc dense matrices over the same storage: a block product reads A once for
-  // several columns, and a block V-cycle smooths them together (PCMatApply).
-  Mat dense(const double* a, Eigen::Index rows, Eigen::Index ncols) {
-    Mat d;
-    HEXFEM_PETSC(MatCreateDense(PETSC_COMM_WORLD, rows, PETSC_DECIDE, PETSC_DETERMINE, ncols,
-                                const_cast<double*>(a), &d));
-    return d;
-  }
-  void multiply(Mat A, const MatrixXd& in, MatrixXd& out) {
-    out.resize(in.rows(), in.cols());
-    if (in.cols() == 0) return;
-    Mat b = dense(in.data(), in.rows(), in.cols()), c = dense(out.data(), out.rows(), out.cols());
-    HEXFEM_PETSC(MatProductCreateWithMat(A, b, nullptr, c));
-    HEXFEM_PETSC(MatProductSetType(c, MATPRODUCT_AB));
-    HEXFEM_PETSC(MatProductSetFromOptions(c));
-    HEXFEM_PETSC(MatProductSymbolic(c));
-    HEXFEM_PETSC(MatProductNumeric(c));
-    MatDestroy(&b);
-    MatDestroy(&c);
-  }
-  void solve(const std::function<void(Mat, Mat)>& precondition,
-             const Eigen::Ref<const MatrixXd>& in, MatrixXd& out) {
-    out.resize(in.rows(), in.cols());
-    if (in.cols() == 0) return;
-    Mat b = dense(in.data(), in.rows(), in.cols()), c = dense(out.data(), out.rows(), out.cols());
-    precondition(b, c);
-    MatDestroy(&b);
-    MatDestroy(&c);
-  }
-};
+// A block held as a plain column-major array, wrapped as a PETSc dense matrix over the same
+// storage: a block product reads A once for several columns, and the V-cycle smooths the
+// columns together.
+Mat dense(const double* a, Eigen::Index rows, Eigen::Index ncols) {
+  Mat d;
+  HEXFEM_PETSC(MatCreateDense(PETSC_COMM_WORLD, rows, PETSC_DECIDE, PETSC_DETERMINE, ncols,
+                              const_cast<double*>(a), &d));
+  return d;
+}
+
+// out = A in.
+void multiply(Mat A, const MatrixXd& in, MatrixXd& out) {
+  out.resize(in.rows(), in.cols());
+  if (in.cols() == 0) return;
+  Mat b = dense(in.data(), in.rows(), in.cols()), c = dense(out.data(), out.rows(), out.cols());
+  HEXFEM_PETSC(MatProductCreateWithMat(A, b, nullptr, c));
+  HEXFEM_PETSC(MatProductSetType(c, MATPRODUCT_AB));
+  HEXFEM_PETSC(MatProductSetFromOptions(c));
+  HEXFEM_PETSC(MatProductSymbolic(c));
+  HEXFEM_PETSC(MatProductNumeric(c));
+  MatDestroy(&b);
+  MatDestroy(&c);
+}
+
+// out = T in, T the preconditioner.
+void precondition(const std::function<void(Mat, Mat)>& T, const Eigen::Ref<const MatrixXd>& in,
+                  MatrixXd& out) {
+  out.resize(in.rows(), in.cols());
+  if (in.cols() == 0) return;
+  Mat b = dense(in.data(), in.rows(), in.cols()), c = dense(out.data(), out.rows(), out.cols());
+  T(b, c);
+  MatDestroy(&b);
+  MatDestroy(&c);
+}
 
 // Directions whose Gram eigenvalue is below this fraction of the largest are round-off.
 constexpr double kDropFraction = 1e-13;
 
-// B-orthonormalizes the columns of U (SVQB), dropping dependent directions; BU (and AU when
-// given) follow without new products. Returns the columns kept.
-long orthonormalize(MatrixXd& U, MatrixXd& BU, MatrixXd* AU) {
-  if (U.cols() == 0) return 0;
-  const MatrixXd G = inner(U, BU);
+// For a Gram matrix G = Sᵀ B S: T with Tᵀ G T = I on the directions of S above round-off
+// (diagonally scaled eigendecomposition, SVQB); its columns span fewer than S's when S is
+// (nearly) dependent.
+MatrixXd orthonormalizing_transform(const MatrixXd& G) {
   const VectorXd d = G.diagonal().cwiseMax(0).cwiseSqrt();
   VectorXd dinv(d.size());
   for (Eigen::Index i = 0; i < d.size(); ++i) dinv[i] = d[i] > 0 ? 1 / d[i] : 0;
@@ -124,28 +101,31 @@ long orthonormalize(MatrixXd& U, MatrixXd& BU, MatrixXd* AU) {
   const Eigen::Index kept = theta.size() - first;
   MatrixXd T = dinv.asDiagonal() * es.eigenvectors().rightCols(kept);
   for (Eigen::Index j = 0; j < kept; ++j) T.col(j) /= std::sqrt(theta[first + j]);
-  MatrixXd tmp;
+  return T;
+}
+
+// U = U T, through the scratch block tmp.
+void transform(MatrixXd& U, const MatrixXd& T, MatrixXd& tmp) {
   combine(U, T, 0, tmp);
   U.swap(tmp);
-  combine(BU, T, 0, tmp);
-  BU.swap(tmp);
-  if (AU) {
-    combine(*AU, T, 0, tmp);
-    AU->swap(tmp);
-  }
-  return kept;
+}
+
+// B-orthonormalizes the columns of U, dropping dependent directions; BU (and AU when given)
+// follow without new products. Returns the columns kept.
+long orthonormalize(MatrixXd& U, MatrixXd& BU, MatrixXd* AU) {
+  if (U.cols() == 0) return 0;
+  const MatrixXd T = orthonormalizing_transform(inner(U, BU));
+  MatrixXd tmp;
+  transform(U, T, tmp);
+  transform(BU, T, tmp);
+  if (AU) transform(*AU, T, tmp);
+  return T.cols();
 }
 
 // U -= V (BVᵀ U): B-orthogonal to the B-orthonormal V.
 void project_out(const MatrixXd& V, const MatrixXd& BV, MatrixXd& U) {
   if (V.cols() == 0 || U.cols() == 0) return;
-  const MatrixXd c = inner(BV, U);
-  const PetscBLASInt m = static_cast<PetscBLASInt>(U.rows()),
-                     n = static_cast<PetscBLASInt>(U.cols()),
-                     k = static_cast<PetscBLASInt>(V.cols());
-  const double minus = -1, one = 1;
-  if (m > 0)
-    BLASgemm_("N", "N", &m, &n, &k, &minus, V.data(), &m, c.data(), &k, &one, U.data(), &m);
+  combine(V, -inner(BV, U), 1, U);
 }
 
 // The Rayleigh-Ritz step on the basis [blocks...]: the m lowest Ritz values and, per block, the
@@ -166,19 +146,9 @@ bool rayleigh_ritz(const Basis& b, long m, VectorXd& theta, std::vector<MatrixXd
       Gb.block(off[i], off[j], bb.rows(), bb.cols()) = bb;
       Gb.block(off[j], off[i], bb.cols(), bb.rows()) = bb.transpose();
     }
-  // Gb = U D Uᵀ; the basis B-orthonormalized as T = (scaled) U D^-1/2 without its null part.
-  const VectorXd d = Gb.diagonal().cwiseMax(0).cwiseSqrt();
-  VectorXd dinv(k);
-  for (long i = 0; i < k; ++i) dinv[i] = d[i] > 0 ? 1 / d[i] : 0;
-  const Eigen::SelfAdjointEigenSolver<MatrixXd> eb(dinv.asDiagonal() * Gb * dinv.asDiagonal());
-  const VectorXd& g = eb.eigenvalues();
-  const double top = k ? g[k - 1] : 0;
-  long first = 0;
-  while (first < k && !(g[first] > kDropFraction * top)) ++first;
-  const long kept = k - first;
-  if (kept < m) return false;
-  MatrixXd T = dinv.asDiagonal() * eb.eigenvectors().rightCols(kept);
-  for (long j = 0; j < kept; ++j) T.col(j) /= std::sqrt(g[first + j]);
+  // The basis B-orthonormalized, without its null part.
+  const MatrixXd T = orthonormalizing_transform(Gb);
+  if (T.cols() < m) return false;
   MatrixXd Ha = T.transpose() * Ga * T;
   const Eigen::SelfAdjointEigenSolver<MatrixXd> ea(0.5 * (Ha + Ha.transpose()));
   theta = ea.eigenvalues().head(m);
@@ -205,7 +175,6 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
   PetscInt nloc, lo, hi;
   HEXFEM_PETSC(MatGetLocalSize(p.A, &nloc, nullptr));
   HEXFEM_PETSC(MatGetOwnershipRange(p.A, &lo, &hi));
-  Columns cols(p.A);
 
   // The constraints Y and BY.
   MatrixXd Y(nloc, p.constraints.size()), BY;
@@ -215,7 +184,7 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
     std::copy_n(a, nloc, Y.col(j).data());
     HEXFEM_PETSC(VecRestoreArrayRead(p.constraints[j], &a));
   }
-  cols.multiply(p.B, Y, BY);
+  multiply(p.B, Y, BY);
 
   // Start: a random block, B-orthogonal to Y, B-orthonormal, then its Ritz vectors.
   MatrixXd X(nloc, m), AX, BX, W, AW, BW, P, AP, BP, R, dir, tmp;
@@ -224,21 +193,21 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
       X(i, j) =
           unit_random(static_cast<std::uint64_t>(lo + i) * 1024 + static_cast<std::uint64_t>(j));
   project_out(Y, BY, X);
-  cols.multiply(p.B, X, BX);
+  multiply(p.B, X, BX);
   if (orthonormalize(X, BX, nullptr) < m) {
     res.failure = "broke down: the start block is rank deficient";
     return res;
   }
-  cols.multiply(p.A, X, AX);
+  multiply(p.A, X, AX);
   VectorXd lambda;
   std::vector<MatrixXd> c;
   if (!rayleigh_ritz({{&X}, {&AX}, {&BX}}, m, lambda, c)) {
     res.failure = "broke down: the start block is rank deficient";
     return res;
   }
-  combine(X, c[0], 0, tmp), X.swap(tmp);
-  combine(AX, c[0], 0, tmp), AX.swap(tmp);
-  combine(BX, c[0], 0, tmp), BX.swap(tmp);
+  transform(X, c[0], tmp);
+  transform(AX, c[0], tmp);
+  transform(BX, c[0], tmp);
 
   const double scale = std::sqrt(o.mass_per_dof);
   bool fresh = true;  // AX and BX are exact products (not updated by combinations)
@@ -267,8 +236,8 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
     if (res.converged == o.nev) {
       if (fresh) break;
       // The updated products drift by round-off: test once more on exact ones.
-      cols.multiply(p.A, X, AX);
-      cols.multiply(p.B, X, BX);
+      multiply(p.A, X, AX);
+      multiply(p.B, X, BX);
       fresh = true;
       --it;
       continue;
@@ -280,16 +249,16 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
     // New directions: the preconditioned residuals of the active pairs, B-orthogonal to Y and X.
     for (std::size_t j = 0; j < active.size(); ++j)  // the active residuals to the front of R
       if (static_cast<long>(j) != active[j]) R.col(j) = R.col(active[j]);
-    cols.solve(p.precondition, R.leftCols(static_cast<long>(active.size())), W);
+    precondition(p.precondition, R.leftCols(static_cast<long>(active.size())), W);
     project_out(Y, BY, W);
     project_out(X, BX, W);
-    cols.multiply(p.B, W, BW);
+    multiply(p.B, W, BW);
     orthonormalize(W, BW, nullptr);
     if (W.cols() == 0) {
       res.failure = "broke down: the preconditioned residuals lie in the iterate";
       break;
     }
-    cols.multiply(p.A, W, AW);
+    multiply(p.A, W, AW);
     if (P.cols() > 0) orthonormalize(P, BP, &AP);
 
     if (!rayleigh_ritz({{&X, &W, &P}, {&AX, &AW, &AP}, {&BX, &BW, &BP}}, m, lambda, c)) {

@@ -23,6 +23,7 @@ int mpi_size();  // 1 without MPI
 
 // Throws hexfem::Error("<what>: PETSc error: <message>") when `code` is non-zero.
 void petsc_check(PetscErrorCode code, const char* what);
+#define HEXFEM_PETSC(call) ::hexfem::petsc_check((call), #call)
 
 // Peak resident memory of this process [bytes] (getrusage).
 double peak_rss_bytes();
