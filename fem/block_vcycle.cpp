@@ -9,14 +9,12 @@
 namespace hexfem {
 namespace {
 
-// C = op(A) X into the existing dense C (type MATPRODUCT_AB or MATPRODUCT_AtB).
-void product(Mat A, Mat X, Mat C, MatProductType type) {
+// Attaches C = op(A) X to the dense C; MatProductNumeric(C) then recomputes it from X's values.
+void attach_product(Mat A, Mat X, Mat C, MatProductType type) {
   HEXFEM_PETSC(MatProductCreateWithMat(A, X, nullptr, C));
   HEXFEM_PETSC(MatProductSetType(C, type));
   HEXFEM_PETSC(MatProductSetFromOptions(C));
   HEXFEM_PETSC(MatProductSymbolic(C));
-  HEXFEM_PETSC(MatProductNumeric(C));
-  HEXFEM_PETSC(MatProductClear(C));
 }
 
 Mat dense_like(Mat A, PetscInt ncols) {  // rows laid out as A's rows
@@ -113,6 +111,7 @@ BlockVcycle::BlockVcycle(PC pc, int chebyshev_steps, double lo, double hi)
 }
 
 BlockVcycle::~BlockVcycle() {
+  release();
   for (Level& L : levels_) {
     MatDestroy(&L.A);
     MatDestroy(&L.P);
@@ -121,67 +120,91 @@ BlockVcycle::~BlockVcycle() {
   KSPDestroy(&coarse_);
 }
 
+void BlockVcycle::release() {
+  for (Level& L : levels_)
+    for (Mat* m : {&L.b, &L.x, &L.r, &L.d, &L.ad, &L.ax, &L.e}) MatDestroy(m);
+  ncols_ = 0;
+}
+
+void BlockVcycle::prepare(PetscInt ncols) {
+  if (ncols == ncols_) return;
+  release();
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    Level& L = levels_[l];
+    L.b = dense_like(L.A, ncols);
+    L.x = dense_like(L.A, ncols);
+    if (l == 0) continue;
+    for (Mat* m : {&L.r, &L.d, &L.ad, &L.ax, &L.e}) *m = dense_like(L.A, ncols);
+  }
+  for (std::size_t l = 1; l < levels_.size(); ++l) {
+    Level &L = levels_[l], &C = levels_[l - 1];
+    attach_product(L.A, L.d, L.ad, MATPRODUCT_AB);
+    attach_product(L.A, L.x, L.ax, MATPRODUCT_AB);
+    attach_product(L.P, C.x, L.e, MATPRODUCT_AB);
+    attach_product(L.P, L.r, C.b, MATPRODUCT_AtB);
+  }
+  ncols_ = ncols;
+}
+
 void BlockVcycle::apply(Mat in, Mat out) {
-  cycle(static_cast<int>(levels_.size()) - 1, in, out);
+  PetscInt ncols;
+  HEXFEM_PETSC(MatGetSize(in, nullptr, &ncols));
+  prepare(ncols);
+  Level& top = levels_.back();
+  HEXFEM_PETSC(MatCopy(in, top.b, SAME_NONZERO_PATTERN));
+  cycle(static_cast<int>(levels_.size()) - 1);
+  HEXFEM_PETSC(MatCopy(top.x, out, SAME_NONZERO_PATTERN));
 }
 
 // Chebyshev iteration of the first kind on D⁻¹A x = D⁻¹b over [emin, emax] (Saad, Iterative
-// Methods, Alg. 12.1), every column at once.
-void BlockVcycle::smooth(const Level& L, Mat b, Mat x, bool zero_guess) {
-  PetscInt ncols;
-  HEXFEM_PETSC(MatGetSize(b, nullptr, &ncols));
+// Methods, Alg. 12.1), every column at once; x = 0 on entry when zero_guess.
+void BlockVcycle::smooth(Level& L, bool zero_guess) {
   const double theta = 0.5 * (L.emax + L.emin), delta = 0.5 * (L.emax - L.emin);
   const double sigma = theta / delta;
-  Mat r, d, t;
-  HEXFEM_PETSC(MatDuplicate(b, MAT_COPY_VALUES, &r));
+  HEXFEM_PETSC(MatCopy(L.b, L.r, SAME_NONZERO_PATTERN));
   if (!zero_guess) {  // r = b - A x
-    t = dense_like(L.A, ncols);
-    product(L.A, x, t, MATPRODUCT_AB);
-    HEXFEM_PETSC(MatAXPY(r, -1.0, t, SAME_NONZERO_PATTERN));
-  } else {
-    HEXFEM_PETSC(MatDuplicate(b, MAT_DO_NOT_COPY_VALUES, &t));
+    HEXFEM_PETSC(MatProductNumeric(L.ax));
+    HEXFEM_PETSC(MatAXPY(L.r, -1.0, L.ax, SAME_NONZERO_PATTERN));
   }
-  HEXFEM_PETSC(MatDuplicate(r, MAT_COPY_VALUES, &d));
-  HEXFEM_PETSC(MatDiagonalScale(d, L.inv_diag, nullptr));
-  HEXFEM_PETSC(MatScale(d, 1.0 / theta));
+  HEXFEM_PETSC(MatCopy(L.r, L.d, SAME_NONZERO_PATTERN));
+  HEXFEM_PETSC(MatDiagonalScale(L.d, L.inv_diag, nullptr));
+  HEXFEM_PETSC(MatScale(L.d, 1.0 / theta));
   double rho = 1.0 / sigma;
   for (int i = 1; i <= steps_; ++i) {
     if (i == 1 && zero_guess)
-      HEXFEM_PETSC(MatCopy(d, x, SAME_NONZERO_PATTERN));
+      HEXFEM_PETSC(MatCopy(L.d, L.x, SAME_NONZERO_PATTERN));
     else
-      HEXFEM_PETSC(MatAXPY(x, 1.0, d, SAME_NONZERO_PATTERN));
+      HEXFEM_PETSC(MatAXPY(L.x, 1.0, L.d, SAME_NONZERO_PATTERN));
     if (i == steps_) break;
-    product(L.A, d, t, MATPRODUCT_AB);  // r -= A d
-    HEXFEM_PETSC(MatAXPY(r, -1.0, t, SAME_NONZERO_PATTERN));
+    HEXFEM_PETSC(MatProductNumeric(L.ad));  // r -= A d
+    HEXFEM_PETSC(MatAXPY(L.r, -1.0, L.ad, SAME_NONZERO_PATTERN));
     const double rho_next = 1.0 / (2.0 * sigma - rho);
-    HEXFEM_PETSC(MatCopy(r, t, SAME_NONZERO_PATTERN));  // d = ρ'ρ d + 2ρ'/δ D⁻¹ r
-    HEXFEM_PETSC(MatDiagonalScale(t, L.inv_diag, nullptr));
-    HEXFEM_PETSC(MatScale(d, rho_next * rho));
-    HEXFEM_PETSC(MatAXPY(d, 2.0 * rho_next / delta, t, SAME_NONZERO_PATTERN));
+    // d = ρ'ρ d + 2ρ'/δ D⁻¹ r, with ad (consumed above) as the scratch block for D⁻¹ r.
+    HEXFEM_PETSC(MatCopy(L.r, L.ad, SAME_NONZERO_PATTERN));
+    HEXFEM_PETSC(MatDiagonalScale(L.ad, L.inv_diag, nullptr));
+    HEXFEM_PETSC(MatScale(L.d, rho_next * rho));
+    HEXFEM_PETSC(MatAXPY(L.d, 2.0 * rho_next / delta, L.ad, SAME_NONZERO_PATTERN));
     rho = rho_next;
   }
-  for (Mat* m : {&r, &d, &t}) MatDestroy(m);
 }
 
-void BlockVcycle::cycle(int l, Mat b, Mat x) {
+// One V-cycle on level l from its b into its x.
+void BlockVcycle::cycle(int l) {
+  Level& L = levels_[l];
   if (l == 0) {
-    HEXFEM_PETSC(KSPMatSolve(coarse_, b, x));
+    HEXFEM_PETSC(KSPMatSolve(coarse_, L.b, L.x));
     return;
   }
-  const Level& L = levels_[l];
-  const Level& C = levels_[l - 1];
-  PetscInt ncols;
-  HEXFEM_PETSC(MatGetSize(b, nullptr, &ncols));
-  smooth(L, b, x, true);
-  Mat r = dense_like(L.A, ncols), bc = dense_like(C.A, ncols), xc = dense_like(C.A, ncols);
-  product(L.A, x, r, MATPRODUCT_AB);  // r = b - A x
-  HEXFEM_PETSC(MatAYPX(r, -1.0, b, SAME_NONZERO_PATTERN));
-  product(L.P, r, bc, MATPRODUCT_AtB);
-  cycle(l - 1, bc, xc);
-  product(L.P, xc, r, MATPRODUCT_AB);
-  HEXFEM_PETSC(MatAXPY(x, 1.0, r, SAME_NONZERO_PATTERN));
-  smooth(L, b, x, false);
-  for (Mat* m : {&r, &bc, &xc}) MatDestroy(m);
+  Level& C = levels_[l - 1];
+  smooth(L, true);
+  HEXFEM_PETSC(MatProductNumeric(L.ax));  // r = b - A x
+  HEXFEM_PETSC(MatCopy(L.b, L.r, SAME_NONZERO_PATTERN));
+  HEXFEM_PETSC(MatAXPY(L.r, -1.0, L.ax, SAME_NONZERO_PATTERN));
+  HEXFEM_PETSC(MatProductNumeric(C.b));  // b_c = Pᵀ r
+  cycle(l - 1);
+  HEXFEM_PETSC(MatProductNumeric(L.e));  // x += P x_c
+  HEXFEM_PETSC(MatAXPY(L.x, 1.0, L.e, SAME_NONZERO_PATTERN));
+  smooth(L, false);
 }
 
 }  // namespace hexfem

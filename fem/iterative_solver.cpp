@@ -535,6 +535,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     HEXFEM_PETSC(KSPSetUp(pc_ksp));
     PC pc;
     HEXFEM_PETSC(KSPGetPC(pc_ksp, &pc));
+    drop_galerkin_intermediates(pc);
     std::unique_ptr<BlockVcycle> vcycle;
     if (s.block_vcycle)
       vcycle = std::make_unique<BlockVcycle>(pc, s.chebyshev_steps, s.chebyshev_low);

@@ -90,6 +90,22 @@ void configure_gamg(KSP ksp, const IterativeSettings& s) {
   HEXFEM_PETSC(PCGAMGSetCoarseEqLim(pc, s.gamg_coarse_eq_limit));
 }
 
+void drop_galerkin_intermediates(PC pc) {
+  PetscInt n;
+  HEXFEM_PETSC(PCMGGetLevels(pc, &n));
+  for (PetscInt l = 0; l < n; ++l) {
+    KSP smoother;
+    Mat A;
+    HEXFEM_PETSC(PCMGGetSmoother(pc, l, &smoother));
+    HEXFEM_PETSC(KSPGetOperators(smoother, &A, nullptr));
+    HEXFEM_PETSC(MatProductClear(A));
+    if (l == 0) continue;
+    Mat P;
+    HEXFEM_PETSC(PCMGGetInterpolation(pc, l, &P));
+    HEXFEM_PETSC(MatProductClear(P));
+  }
+}
+
 KrylovSchurRun krylov_schur(EPS eps, Mat K, Mat M, std::vector<Vec>& deflation, int nev,
                             const IterativeSettings& s, long n) {
   KrylovSchurRun run;
