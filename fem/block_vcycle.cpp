@@ -9,14 +9,6 @@
 namespace hexfem {
 namespace {
 
-// Attaches C = op(A) X to the dense C; MatProductNumeric(C) then recomputes it from X's values.
-void attach_product(Mat A, Mat X, Mat C, MatProductType type) {
-  HEXFEM_PETSC(MatProductCreateWithMat(A, X, nullptr, C));
-  HEXFEM_PETSC(MatProductSetType(C, type));
-  HEXFEM_PETSC(MatProductSetFromOptions(C));
-  HEXFEM_PETSC(MatProductSymbolic(C));
-}
-
 Mat dense_like(Mat A, PetscInt ncols) {  // rows laid out as A's rows
   PetscInt nloc, N;
   HEXFEM_PETSC(MatGetLocalSize(A, &nloc, nullptr));
@@ -24,6 +16,33 @@ Mat dense_like(Mat A, PetscInt ncols) {  // rows laid out as A's rows
   Mat d;
   HEXFEM_PETSC(MatCreateDense(PETSC_COMM_WORLD, nloc, PETSC_DECIDE, N, ncols, nullptr, &d));
   return d;
+}
+
+// rows (n rows of k values) <-> a PETSc dense block (column-major, n local rows, k columns).
+void dense_to_rows(Mat m, std::vector<double>& rows, int k) {
+  const PetscScalar* a;
+  PetscInt lda, n;
+  HEXFEM_PETSC(MatDenseGetLDA(m, &lda));
+  HEXFEM_PETSC(MatGetLocalSize(m, &n, nullptr));
+  HEXFEM_PETSC(MatDenseGetArrayRead(m, &a));
+#pragma omp parallel for schedule(static)
+  for (PetscInt i = 0; i < n; ++i)
+    for (int j = 0; j < k; ++j)
+      rows[static_cast<long>(i) * k + j] = a[static_cast<long>(j) * lda + i];
+  HEXFEM_PETSC(MatDenseRestoreArrayRead(m, &a));
+}
+
+void rows_to_dense(const std::vector<double>& rows, int k, Mat m) {
+  PetscScalar* a;
+  PetscInt lda, n;
+  HEXFEM_PETSC(MatDenseGetLDA(m, &lda));
+  HEXFEM_PETSC(MatGetLocalSize(m, &n, nullptr));
+  HEXFEM_PETSC(MatDenseGetArrayWrite(m, &a));
+#pragma omp parallel for schedule(static)
+  for (PetscInt i = 0; i < n; ++i)
+    for (int j = 0; j < k; ++j)
+      a[static_cast<long>(j) * lda + i] = rows[static_cast<long>(i) * k + j];
+  HEXFEM_PETSC(MatDenseRestoreArrayWrite(m, &a));
 }
 
 // The largest eigenvalue of D⁻¹A by 12 Lanczos steps on D^-1/2 A D^-1/2 (a lower bound within a
@@ -95,65 +114,70 @@ BlockVcycle::BlockVcycle(PC pc, int chebyshev_steps, double lo, double hi)
     HEXFEM_PETSC(PCMGGetSmoother(pc, l, &smoother));
     HEXFEM_PETSC(KSPGetOperators(smoother, &L.A, nullptr));
     HEXFEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(L.A)));
-    if (l > 0) {
-      HEXFEM_PETSC(PCMGGetInterpolation(pc, l, &L.P));
-      HEXFEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(L.P)));
-      HEXFEM_PETSC(MatCreateVecs(L.A, &L.inv_diag, nullptr));
-      HEXFEM_PETSC(MatGetDiagonal(L.A, L.inv_diag));
-      HEXFEM_PETSC(VecReciprocal(L.inv_diag));
-      const double top = largest_eigenvalue(L.A, L.inv_diag);
-      L.emin = lo * top;
-      L.emax = hi * top;
-    }
+    if (l == 0) continue;
+    HEXFEM_PETSC(PCMGGetInterpolation(pc, l, &L.P));
+    HEXFEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(L.P)));
+    Vec inv_diag;
+    HEXFEM_PETSC(MatCreateVecs(L.A, &inv_diag, nullptr));
+    HEXFEM_PETSC(MatGetDiagonal(L.A, inv_diag));
+    HEXFEM_PETSC(VecReciprocal(inv_diag));
+    const double top = largest_eigenvalue(L.A, inv_diag);
+    L.emin = lo * top;
+    L.emax = hi * top;
+    PetscInt nloc;
+    const PetscScalar* v;
+    HEXFEM_PETSC(VecGetLocalSize(inv_diag, &nloc));
+    HEXFEM_PETSC(VecGetArrayRead(inv_diag, &v));
+    L.inv_diag.assign(v, v + nloc);
+    HEXFEM_PETSC(VecRestoreArrayRead(inv_diag, &v));
+    VecDestroy(&inv_diag);
   }
   HEXFEM_PETSC(PCMGGetCoarseSolve(pc, &coarse_));
   HEXFEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(coarse_)));
 }
 
 BlockVcycle::~BlockVcycle() {
-  release();
   for (Level& L : levels_) {
+    L.a.reset();
+    L.p.reset();
     MatDestroy(&L.A);
     MatDestroy(&L.P);
-    VecDestroy(&L.inv_diag);
   }
+  MatDestroy(&coarse_b_);
+  MatDestroy(&coarse_x_);
   KSPDestroy(&coarse_);
 }
 
-void BlockVcycle::release() {
-  for (Level& L : levels_)
-    for (Mat* m : {&L.b, &L.x, &L.r, &L.d, &L.ad, &L.ax, &L.e}) MatDestroy(m);
-  ncols_ = 0;
-}
-
-void BlockVcycle::prepare(PetscInt ncols) {
-  if (ncols == ncols_) return;
-  release();
+void BlockVcycle::prepare(int k) {
+  if (k == k_) return;
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     Level& L = levels_[l];
-    L.b = dense_like(L.A, ncols);
-    L.x = dense_like(L.A, ncols);
+    PetscInt n;
+    HEXFEM_PETSC(MatGetLocalSize(L.A, &n, nullptr));
+    const std::size_t size = static_cast<std::size_t>(n) * k;
+    L.b.assign(size, 0.0);
+    L.x.assign(size, 0.0);
     if (l == 0) continue;
-    for (Mat* m : {&L.r, &L.d, &L.ad, &L.ax, &L.e}) *m = dense_like(L.A, ncols);
+    L.r.assign(size, 0.0);
+    L.d.assign(size, 0.0);
+    L.a = std::make_unique<RowBlockProduct>(L.A, k);
+    L.p = std::make_unique<RowBlockProduct>(L.P, k);
   }
-  for (std::size_t l = 1; l < levels_.size(); ++l) {
-    Level &L = levels_[l], &C = levels_[l - 1];
-    attach_product(L.A, L.d, L.ad, MATPRODUCT_AB);
-    attach_product(L.A, L.x, L.ax, MATPRODUCT_AB);
-    attach_product(L.P, C.x, L.e, MATPRODUCT_AB);
-    attach_product(L.P, L.r, C.b, MATPRODUCT_AtB);
-  }
-  ncols_ = ncols;
+  MatDestroy(&coarse_b_);
+  MatDestroy(&coarse_x_);
+  coarse_b_ = dense_like(levels_[0].A, k);
+  coarse_x_ = dense_like(levels_[0].A, k);
+  k_ = k;
 }
 
 void BlockVcycle::apply(Mat in, Mat out) {
-  PetscInt ncols;
-  HEXFEM_PETSC(MatGetSize(in, nullptr, &ncols));
-  prepare(ncols);
+  PetscInt k;
+  HEXFEM_PETSC(MatGetSize(in, nullptr, &k));
+  prepare(static_cast<int>(k));
   Level& top = levels_.back();
-  HEXFEM_PETSC(MatCopy(in, top.b, SAME_NONZERO_PATTERN));
+  dense_to_rows(in, top.b, k_);
   cycle(static_cast<int>(levels_.size()) - 1);
-  HEXFEM_PETSC(MatCopy(top.x, out, SAME_NONZERO_PATTERN));
+  rows_to_dense(top.x, k_, out);
 }
 
 // Chebyshev iteration of the first kind on D⁻¹A x = D⁻¹b over [emin, emax] (Saad, Iterative
@@ -161,29 +185,29 @@ void BlockVcycle::apply(Mat in, Mat out) {
 void BlockVcycle::smooth(Level& L, bool zero_guess) {
   const double theta = 0.5 * (L.emax + L.emin), delta = 0.5 * (L.emax - L.emin);
   const double sigma = theta / delta;
-  HEXFEM_PETSC(MatCopy(L.b, L.r, SAME_NONZERO_PATTERN));
-  if (!zero_guess) {  // r = b - A x
-    HEXFEM_PETSC(MatProductNumeric(L.ax));
-    HEXFEM_PETSC(MatAXPY(L.r, -1.0, L.ax, SAME_NONZERO_PATTERN));
-  }
-  HEXFEM_PETSC(MatCopy(L.r, L.d, SAME_NONZERO_PATTERN));
-  HEXFEM_PETSC(MatDiagonalScale(L.d, L.inv_diag, nullptr));
-  HEXFEM_PETSC(MatScale(L.d, 1.0 / theta));
+  const long n = static_cast<long>(L.inv_diag.size()), k = k_;
+  double *r = L.r.data(), *d = L.d.data(), *x = L.x.data();
+  const double* inv = L.inv_diag.data();
+  L.r = L.b;
+  if (!zero_guess) L.a->multiply(x, r, -1.0, 1.0);  // r = b - A x
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < n; ++i)
+    for (long c = 0; c < k; ++c) d[i * k + c] = inv[i] / theta * r[i * k + c];
   double rho = 1.0 / sigma;
-  for (int i = 1; i <= steps_; ++i) {
-    if (i == 1 && zero_guess)
-      HEXFEM_PETSC(MatCopy(L.d, L.x, SAME_NONZERO_PATTERN));
+  for (int step = 1; step <= steps_; ++step) {
+    if (step == 1 && zero_guess)
+      L.x = L.d;
     else
-      HEXFEM_PETSC(MatAXPY(L.x, 1.0, L.d, SAME_NONZERO_PATTERN));
-    if (i == steps_) break;
-    HEXFEM_PETSC(MatProductNumeric(L.ad));  // r -= A d
-    HEXFEM_PETSC(MatAXPY(L.r, -1.0, L.ad, SAME_NONZERO_PATTERN));
+#pragma omp parallel for schedule(static)
+      for (long j = 0; j < n * k; ++j) x[j] += d[j];
+    if (step == steps_) break;
+    L.a->multiply(d, r, -1.0, 1.0);  // r -= A d
     const double rho_next = 1.0 / (2.0 * sigma - rho);
-    // d = ρ'ρ d + 2ρ'/δ D⁻¹ r, with ad (consumed above) as the scratch block for D⁻¹ r.
-    HEXFEM_PETSC(MatCopy(L.r, L.ad, SAME_NONZERO_PATTERN));
-    HEXFEM_PETSC(MatDiagonalScale(L.ad, L.inv_diag, nullptr));
-    HEXFEM_PETSC(MatScale(L.d, rho_next * rho));
-    HEXFEM_PETSC(MatAXPY(L.d, 2.0 * rho_next / delta, L.ad, SAME_NONZERO_PATTERN));
+    const double keep = rho_next * rho, gain = 2.0 * rho_next / delta;  // d = ρ'ρ d + 2ρ'/δ D⁻¹r
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; ++i)
+      for (long c = 0; c < k; ++c)
+        d[i * k + c] = keep * d[i * k + c] + gain * inv[i] * r[i * k + c];
     rho = rho_next;
   }
 }
@@ -192,18 +216,18 @@ void BlockVcycle::smooth(Level& L, bool zero_guess) {
 void BlockVcycle::cycle(int l) {
   Level& L = levels_[l];
   if (l == 0) {
-    HEXFEM_PETSC(KSPMatSolve(coarse_, L.b, L.x));
+    rows_to_dense(L.b, k_, coarse_b_);
+    HEXFEM_PETSC(KSPMatSolve(coarse_, coarse_b_, coarse_x_));
+    dense_to_rows(coarse_x_, L.x, k_);
     return;
   }
   Level& C = levels_[l - 1];
   smooth(L, true);
-  HEXFEM_PETSC(MatProductNumeric(L.ax));  // r = b - A x
-  HEXFEM_PETSC(MatCopy(L.b, L.r, SAME_NONZERO_PATTERN));
-  HEXFEM_PETSC(MatAXPY(L.r, -1.0, L.ax, SAME_NONZERO_PATTERN));
-  HEXFEM_PETSC(MatProductNumeric(C.b));  // b_c = Pᵀ r
+  L.r = L.b;  // r = b - A x
+  L.a->multiply(L.x.data(), L.r.data(), -1.0, 1.0);
+  L.p->multiply_transpose(L.r.data(), C.b.data());  // b_c = Pᵀ r
   cycle(l - 1);
-  HEXFEM_PETSC(MatProductNumeric(L.e));  // x += P x_c
-  HEXFEM_PETSC(MatAXPY(L.x, 1.0, L.e, SAME_NONZERO_PATTERN));
+  L.p->multiply(C.x.data(), L.x.data(), 1.0, 1.0);  // x += P x_c
   smooth(L, false);
 }
 

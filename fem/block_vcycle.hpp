@@ -1,15 +1,17 @@
 // One V-cycle of a set-up PETSc multigrid preconditioner (GAMG) applied to a block of vectors at
 // once. PETSc 3.18 applies a multigrid PC to a block (PCMatApply) column by column in its
 // smoothers, so every column reads the level matrices again; here each level's Chebyshev-Jacobi
-// smoothing, residual and transfers are block products (MatMatMult), which read a level matrix
-// once for the whole block: about 3x less time per column on the fine level (measured at 94.5k
-// DOF, validation/solver.md §10). The hierarchy (aggregates, prolongators, Galerkin operators)
-// and the coarse solver stay GAMG's.
+// smoothing, residual and transfers are block products (row_block_product.hpp) on blocks stored
+// row by row, which read a level matrix once for the whole block (validation/solver.md §10).
+// The hierarchy (aggregates, prolongators, Galerkin operators) and the coarse solver stay GAMG's.
 #pragma once
 
 #include <petscksp.h>
 
+#include <memory>
 #include <vector>
+
+#include "fem/row_block_product.hpp"
 
 namespace hexfem {
 
@@ -28,23 +30,23 @@ class BlockVcycle {
 
  private:
   struct Level {
-    Mat A = nullptr;         // the level operator (GAMG's)
-    Mat P = nullptr;         // interpolation from the next coarser level (none on level 0)
-    Vec inv_diag = nullptr;  // Jacobi
+    Mat A = nullptr;               // the level operator (GAMG's)
+    Mat P = nullptr;               // interpolation from the next coarser level (none on level 0)
+    std::vector<double> inv_diag;  // Jacobi, this rank's rows
     double emin = 0, emax = 0;
-    // Work blocks of this level's rows, kept from one cycle to the next (allocating and
-    // page-faulting them on every call cost 13 % of the solve at 1M DOF). Products attached once:
-    // ad = A d, ax = A x, e = P (coarser x), and the coarser level's b = Pᵀ r.
-    Mat b = nullptr, x = nullptr, r = nullptr, d = nullptr, ad = nullptr, ax = nullptr, e = nullptr;
+    // For the current column count k: products and work blocks, rows of k values (kept from one
+    // cycle to the next: allocating them on every call cost 13 % of the solve at 1M DOF).
+    std::unique_ptr<RowBlockProduct> a, p;  // A, and P (from the coarser level)
+    std::vector<double> b, x, r, d;         // right-hand side, solution, residual, step
   };
-  void prepare(PetscInt ncols);
-  void release();
+  void prepare(int k);
   void cycle(int l);
   void smooth(Level& L, bool zero_guess);
   std::vector<Level> levels_;  // 0 = coarsest
   KSP coarse_ = nullptr;
+  Mat coarse_b_ = nullptr, coarse_x_ = nullptr;  // level 0's b and x as PETSc dense blocks
   int steps_;
-  PetscInt ncols_ = 0;  // the column count the work blocks are made for
+  int k_ = 0;  // the column count the work is made for
 };
 
 }  // namespace hexfem
