@@ -157,7 +157,10 @@ void BlockVcycle::prepare(int k) {
     const std::size_t size = static_cast<std::size_t>(n) * k;
     L.b.assign(size, 0.0);
     L.x.assign(size, 0.0);
-    if (l == 0) continue;
+    if (l == 0) {
+      if (levels_.size() == 1) L.a = std::make_unique<RowBlockProduct>(L.A, k);  // finest
+      continue;
+    }
     L.r.assign(size, 0.0);
     L.d.assign(size, 0.0);
     L.a = std::make_unique<RowBlockProduct>(L.A, k);
@@ -177,6 +180,16 @@ void BlockVcycle::apply(Mat in, Mat out) {
   Level& top = levels_.back();
   dense_to_rows(in, top.b, k_);
   cycle(static_cast<int>(levels_.size()) - 1);
+  rows_to_dense(top.x, k_, out);
+}
+
+void BlockVcycle::multiply_finest(Mat in, Mat out) {
+  PetscInt k;
+  HEXFEM_PETSC(MatGetSize(in, nullptr, &k));
+  prepare(static_cast<int>(k));
+  Level& top = levels_.back();
+  dense_to_rows(in, top.b, k_);
+  top.a->multiply(top.b.data(), top.x.data(), 1.0, 0.0);
   rows_to_dense(top.x, k_, out);
 }
 

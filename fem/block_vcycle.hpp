@@ -27,6 +27,8 @@ class BlockVcycle {
 
   // out = one V-cycle applied to each column of in (dense matrices with the fine level's rows).
   void apply(Mat in, Mat out);
+  // out = A in, A the finest level's operator, through the cycle's idle finest-level blocks.
+  void multiply_finest(Mat in, Mat out);
 
  private:
   struct Level {

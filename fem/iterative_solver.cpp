@@ -541,10 +541,11 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
       vcycle = std::make_unique<BlockVcycle>(pc, s.chebyshev_steps, s.chebyshev_low);
     out.setup_seconds += seconds_since(t_setup);
     out.peak_after_setup = peak_rss_bytes();
-    LobpcgProblem problem{mats.K, mats.M, nullptr, rigid.vectors};
-    if (vcycle)
+    LobpcgProblem problem{mats.K, mats.M, nullptr, nullptr, rigid.vectors};
+    if (vcycle) {
       problem.precondition = [&](Mat in, Mat o) { vcycle->apply(in, o); };
-    else
+      problem.multiply_a = [&](Mat in, Mat o) { vcycle->multiply_finest(in, o); };  // K
+    } else
       problem.precondition = [&](Mat in, Mat o) { HEXFEM_PETSC(KSPMatSolve(pc_ksp, in, o)); };
     LobpcgOptions lo;
     lo.nev = nev;

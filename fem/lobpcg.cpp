@@ -72,9 +72,9 @@ void multiply(Mat A, const MatrixXd& in, MatrixXd& out) {
   MatDestroy(&c);
 }
 
-// out = T in, T the preconditioner.
-void precondition(const std::function<void(Mat, Mat)>& T, const Eigen::Ref<const MatrixXd>& in,
-                  MatrixXd& out) {
+// out = T in, T an operator on dense blocks (the preconditioner, or A's own product).
+void apply(const std::function<void(Mat, Mat)>& T, const Eigen::Ref<const MatrixXd>& in,
+           MatrixXd& out) {
   out.resize(in.rows(), in.cols());
   if (in.cols() == 0) return;
   Mat b = dense(in.data(), in.rows(), in.cols()), c = dense(out.data(), out.rows(), out.cols());
@@ -111,11 +111,10 @@ void transform(MatrixXd& U, const MatrixXd& T, MatrixXd& tmp) {
 }
 
 // B-orthonormalizes the columns of U, dropping dependent directions; BU (and AU when given)
-// follow without new products. Returns the columns kept.
-long orthonormalize(MatrixXd& U, MatrixXd& BU, MatrixXd* AU) {
+// follow without new products, through the scratch block tmp. Returns the columns kept.
+long orthonormalize(MatrixXd& U, MatrixXd& BU, MatrixXd* AU, MatrixXd& tmp) {
   if (U.cols() == 0) return 0;
   const MatrixXd T = orthonormalizing_transform(inner(U, BU));
-  MatrixXd tmp;
   transform(U, T, tmp);
   transform(BU, T, tmp);
   if (AU) transform(*AU, T, tmp);
@@ -194,11 +193,17 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
           unit_random(static_cast<std::uint64_t>(lo + i) * 1024 + static_cast<std::uint64_t>(j));
   project_out(Y, BY, X);
   multiply(p.B, X, BX);
-  if (orthonormalize(X, BX, nullptr) < m) {
+  if (orthonormalize(X, BX, nullptr, tmp) < m) {
     res.failure = "broke down: the start block is rank deficient";
     return res;
   }
-  multiply(p.A, X, AX);
+  const auto multiply_a = [&](const MatrixXd& in, MatrixXd& out) {
+    if (p.multiply_a)
+      apply(p.multiply_a, in, out);
+    else
+      multiply(p.A, in, out);
+  };
+  multiply_a(X, AX);
   VectorXd lambda;
   std::vector<MatrixXd> c;
   if (!rayleigh_ritz({{&X}, {&AX}, {&BX}}, m, lambda, c)) {
@@ -236,7 +241,7 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
     if (res.converged == o.nev) {
       if (fresh) break;
       // The updated products drift by round-off: test once more on exact ones.
-      multiply(p.A, X, AX);
+      multiply_a(X, AX);
       multiply(p.B, X, BX);
       fresh = true;
       --it;
@@ -249,17 +254,17 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
     // New directions: the preconditioned residuals of the active pairs, B-orthogonal to Y and X.
     for (std::size_t j = 0; j < active.size(); ++j)  // the active residuals to the front of R
       if (static_cast<long>(j) != active[j]) R.col(j) = R.col(active[j]);
-    precondition(p.precondition, R.leftCols(static_cast<long>(active.size())), W);
+    apply(p.precondition, R.leftCols(static_cast<long>(active.size())), W);
     project_out(Y, BY, W);
     project_out(X, BX, W);
     multiply(p.B, W, BW);
-    orthonormalize(W, BW, nullptr);
+    orthonormalize(W, BW, nullptr, tmp);
     if (W.cols() == 0) {
       res.failure = "broke down: the preconditioned residuals lie in the iterate";
       break;
     }
-    multiply(p.A, W, AW);
-    if (P.cols() > 0) orthonormalize(P, BP, &AP);
+    multiply_a(W, AW);
+    if (P.cols() > 0) orthonormalize(P, BP, &AP, tmp);
 
     if (!rayleigh_ritz({{&X, &W, &P}, {&AX, &AW, &AP}, {&BX, &BW, &BP}}, m, lambda, c)) {
       res.failure = "broke down: the basis lost rank";

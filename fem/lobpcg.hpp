@@ -28,6 +28,8 @@ struct LobpcgProblem {
   Mat B = nullptr;  // symmetric positive definite
   // Applies T ≈ A⁻¹ to each column of a dense block (out = T in).
   std::function<void(Mat in, Mat out)> precondition;
+  // Computes out = A in on dense blocks when set (a faster product than PETSc's; else MatProduct).
+  std::function<void(Mat in, Mat out)> multiply_a;
   std::vector<Vec> constraints;  // B-orthonormal; the modes are sought B-orthogonal to them
 };
 
