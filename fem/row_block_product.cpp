@@ -1,5 +1,7 @@
 #include "fem/row_block_product.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <array>
 #include <utility>
@@ -62,9 +64,10 @@ void csr_times_block(const CsrView& A, const double* x, int k, double* y, double
   }
 }
 
-// y += Aᵀ x, rows of k values (one thread: rows of A scatter into shared rows of y).
-HEXFEM_CLONES void csr_transpose_times_block(const CsrView& A, const double* x, int k, double* y) {
-  for (PetscInt i = 0; i < A.n; ++i) {
+// y += Aᵀ x over A's rows [begin, end), rows of k values.
+HEXFEM_CLONES void csr_transpose_times_block(const CsrView& A, PetscInt begin, PetscInt end,
+                                             const double* x, int k, double* y) {
+  for (PetscInt i = begin; i < end; ++i) {
     const double* xr = x + static_cast<long>(i) * k;
     for (PetscInt p = A.ia[i]; p < A.ia[i + 1]; ++p) {
       const double v = A.a[p];
@@ -139,14 +142,34 @@ void RowBlockProduct::multiply(const double* x, double* y, double alpha, double 
   HEXFEM_PETSC(VecRestoreArrayRead(ghost_, &g));
 }
 
+// Rows of A scatter into shared rows of y: each thread sums its share of A's rows into its own
+// copy of y (the first thread into y), then the copies are added.
 void RowBlockProduct::multiply_transpose(const double* x, double* y) {
-  std::fill(y, y + static_cast<long>(cols_) * k_, 0.0);
-  csr_transpose_times_block({d_.n, d_.ia, d_.ja, d_.a}, x, k_, y);
+  const long size = static_cast<long>(cols_) * k_;
+  const CsrView d{d_.n, d_.ia, d_.ja, d_.a};
+  const int threads = omp_get_max_threads();
+  std::fill(y, y + size, 0.0);
+  if (threads == 1) {
+    csr_transpose_times_block(d, 0, d.n, x, k_, y);
+  } else {
+    partial_.resize(static_cast<std::size_t>(threads - 1) * size);
+#pragma omp parallel num_threads(threads)
+    {
+      const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+      double* out = t == 0 ? y : partial_.data() + (t - 1) * size;
+      if (t > 0) std::fill(out, out + size, 0.0);
+      csr_transpose_times_block(d, d.n * t / nt, d.n * (t + 1) / nt, x, k_, out);
+#pragma omp barrier
+#pragma omp for schedule(static)
+      for (long j = 0; j < size; ++j)
+        for (int u = 1; u < nt; ++u) y[j] += partial_[(u - 1) * size + j];
+    }
+  }
   if (!off_) return;
   HEXFEM_PETSC(VecSet(ghost_, 0.0));
   PetscScalar* g;
   HEXFEM_PETSC(VecGetArray(ghost_, &g));
-  csr_transpose_times_block({o_.n, o_.ia, o_.ja, o_.a}, x, k_, g);
+  csr_transpose_times_block({o_.n, o_.ia, o_.ja, o_.a}, 0, o_.n, x, k_, g);
   HEXFEM_PETSC(VecRestoreArray(ghost_, &g));
   HEXFEM_PETSC(VecPlaceArray(owned_, y));  // the ghosts' sums go home
   HEXFEM_PETSC(VecScatterBegin(scatter_, ghost_, owned_, ADD_VALUES, SCATTER_REVERSE));

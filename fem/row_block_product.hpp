@@ -10,6 +10,8 @@
 
 #include <petscmat.h>
 
+#include <vector>
+
 namespace hexfem {
 
 class RowBlockProduct {
@@ -42,6 +44,7 @@ class RowBlockProduct {
   PetscInt rows_ = 0, cols_ = 0, ghosts_ = 0;
   Vec owned_ = nullptr, ghost_ = nullptr;  // wrappers over the caller's x (or y) and the ghosts
   VecScatter scatter_ = nullptr;
+  std::vector<double> partial_;  // the other threads' sums in multiply_transpose
 };
 
 }  // namespace hexfem
