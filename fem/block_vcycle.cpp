@@ -155,7 +155,12 @@ void BlockVcycle::prepare(int k) {
     PetscInt n;
     HEXFEM_PETSC(MatGetLocalSize(L.A, &n, nullptr));
     const std::size_t size = static_cast<std::size_t>(n) * k;
-    L.b.assign(size, 0.0);
+    // The finest level of several reads its right-hand side from apply()'s input instead (one
+    // block less on the largest level).
+    if (l + 1 == levels_.size() && l > 0)
+      std::vector<double>().swap(L.b);
+    else
+      L.b.assign(size, 0.0);
     L.x.assign(size, 0.0);
     if (l == 0) {
       if (levels_.size() == 1) L.a = std::make_unique<RowBlockProduct>(L.A, k);  // finest
@@ -178,9 +183,18 @@ void BlockVcycle::apply(Mat in, Mat out) {
   HEXFEM_PETSC(MatGetSize(in, nullptr, &k));
   prepare(static_cast<int>(k));
   Level& top = levels_.back();
-  dense_to_rows(in, top.b, k_);
+  rhs_ = in;
+  if (!top.b.empty()) dense_to_rows(in, top.b, k_);
   cycle(static_cast<int>(levels_.size()) - 1);
   rows_to_dense(top.x, k_, out);
+  rhs_ = nullptr;
+}
+
+void BlockVcycle::load_rhs(Level& L) {
+  if (L.b.empty())
+    dense_to_rows(rhs_, L.r, k_);
+  else
+    L.r = L.b;
 }
 
 void BlockVcycle::multiply_finest(Mat in, Mat out) {
@@ -188,8 +202,9 @@ void BlockVcycle::multiply_finest(Mat in, Mat out) {
   HEXFEM_PETSC(MatGetSize(in, nullptr, &k));
   prepare(static_cast<int>(k));
   Level& top = levels_.back();
-  dense_to_rows(in, top.b, k_);
-  top.a->multiply(top.b.data(), top.x.data(), 1.0, 0.0);
+  std::vector<double>& rows = top.b.empty() ? top.r : top.b;  // idle outside apply()
+  dense_to_rows(in, rows, k_);
+  top.a->multiply(rows.data(), top.x.data(), 1.0, 0.0);
   rows_to_dense(top.x, k_, out);
 }
 
@@ -201,7 +216,7 @@ void BlockVcycle::smooth(Level& L, bool zero_guess) {
   const long n = static_cast<long>(L.inv_diag.size()), k = k_;
   double *r = L.r.data(), *d = L.d.data(), *x = L.x.data();
   const double* inv = L.inv_diag.data();
-  L.r = L.b;
+  load_rhs(L);
   if (!zero_guess) L.a->multiply(x, r, -1.0, 1.0);  // r = b - A x
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < n; ++i)
@@ -236,7 +251,7 @@ void BlockVcycle::cycle(int l) {
   }
   Level& C = levels_[l - 1];
   smooth(L, true);
-  L.r = L.b;  // r = b - A x
+  load_rhs(L);  // r = b - A x
   L.a->multiply(L.x.data(), L.r.data(), -1.0, 1.0);
   L.p->multiply_transpose(L.r.data(), C.b.data());  // b_c = Pᵀ r
   cycle(l - 1);

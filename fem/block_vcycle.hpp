@@ -42,10 +42,12 @@ class BlockVcycle {
     std::vector<double> b, x, r, d;         // right-hand side, solution, residual, step
   };
   void prepare(int k);
+  void load_rhs(Level& L);  // L.r = L.b (the finest level's from rhs_)
   void cycle(int l);
   void smooth(Level& L, bool zero_guess);
   std::vector<Level> levels_;  // 0 = coarsest
   KSP coarse_ = nullptr;
+  Mat rhs_ = nullptr;                            // apply()'s input while it runs
   Mat coarse_b_ = nullptr, coarse_x_ = nullptr;  // level 0's b and x as PETSc dense blocks
   int steps_;
   int k_ = 0;  // the column count the work is made for

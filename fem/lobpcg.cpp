@@ -186,14 +186,15 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
   multiply(p.B, Y, BY);
 
   // Start: a random block, B-orthogonal to Y, B-orthonormal, then its Ritz vectors.
-  MatrixXd X(nloc, m), AX, BX, W, AW, BW, P, AP, BP, R, dir, tmp;
+  // R: the residuals, and the scratch block wherever they are dead (10 blocks in all).
+  MatrixXd X(nloc, m), AX, BX, W, AW, BW, P, AP, BP, R;
   for (long j = 0; j < m; ++j)
     for (PetscInt i = 0; i < nloc; ++i)
       X(i, j) =
           unit_random(static_cast<std::uint64_t>(lo + i) * 1024 + static_cast<std::uint64_t>(j));
   project_out(Y, BY, X);
   multiply(p.B, X, BX);
-  if (orthonormalize(X, BX, nullptr, tmp) < m) {
+  if (orthonormalize(X, BX, nullptr, R) < m) {
     res.failure = "broke down: the start block is rank deficient";
     return res;
   }
@@ -210,9 +211,9 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
     res.failure = "broke down: the start block is rank deficient";
     return res;
   }
-  transform(X, c[0], tmp);
-  transform(AX, c[0], tmp);
-  transform(BX, c[0], tmp);
+  transform(X, c[0], R);
+  transform(AX, c[0], R);
+  transform(BX, c[0], R);
 
   const double scale = std::sqrt(o.mass_per_dof);
   bool fresh = true;  // AX and BX are exact products (not updated by combinations)
@@ -258,29 +259,29 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
     project_out(Y, BY, W);
     project_out(X, BX, W);
     multiply(p.B, W, BW);
-    orthonormalize(W, BW, nullptr, tmp);
+    orthonormalize(W, BW, nullptr, R);  // R is dead from here to the next residuals
     if (W.cols() == 0) {
       res.failure = "broke down: the preconditioned residuals lie in the iterate";
       break;
     }
     multiply_a(W, AW);
-    if (P.cols() > 0) orthonormalize(P, BP, &AP, tmp);
+    if (P.cols() > 0) orthonormalize(P, BP, &AP, R);
 
     if (!rayleigh_ritz({{&X, &W, &P}, {&AX, &AW, &AP}, {&BX, &BW, &BP}}, m, lambda, c)) {
       res.failure = "broke down: the basis lost rank";
       break;
     }
-    // D = W Cw + P Cp; the new X = X Cx + D, the new P = D on the active columns. R (dead
-    // until the next residuals) and dir are the scratch blocks: swapping keeps every block's
-    // storage in use, so no block is allocated per iteration.
+    // D = W Cw + P Cp into R; the new P = D's active columns (in P's storage: the old P is
+    // dead once D is made); the new X = X Cx + D, in R, swapped into X. No block is allocated
+    // per iteration while the active count stays.
+    const long na = static_cast<long>(active.size());
     const auto next = [&](MatrixXd& U, const MatrixXd& WU, MatrixXd& PU) {
       combine(WU, c[1], 0, R);
       combine(PU, c[2], 1, R);
-      dir.resize(nloc, static_cast<long>(active.size()));
-      for (std::size_t j = 0; j < active.size(); ++j) dir.col(j) = R.col(active[j]);
+      PU.resize(nloc, na);
+      for (long j = 0; j < na; ++j) PU.col(j) = R.col(active[j]);
       combine(U, c[0], 1, R);
       U.swap(R);
-      PU.swap(dir);
     };
     next(X, W, P);
     next(AX, AW, AP);
