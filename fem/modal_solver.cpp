@@ -173,9 +173,9 @@ double available_memory_bytes() {
 // --solver auto: the direct path while it is fast and its factor fits, the iterative one
 // beyond. Factor memory ~ 157 n^(4/3) bytes fits the cantilevers of solver.md §8 (0.79 / 3.4 /
 // 16.5 GB measured at 94.5k / 305k / 1.05M DOFs); nested dissection on compact 3D meshes
-// grows as n^(4/3) too. On one process the direct path is faster at 94.5k DOFs (7.1 s against
-// 10.9 s), the two take the same time at 305k (36 s) where the iterative one needs a third of
-// the memory, and the iterative one is 1.7x faster at 1.05M (§10); 150k sits between. At
+// grows as n^(4/3) too. On one process the two paths take the same time at 94.5k DOFs (8.7 s),
+// where the iterative one needs 2.4x less memory, and the iterative one is 1.5x faster at 305k
+// and 3.4x at 1.05M (solver.md §10, session 13); 100k sits at the break-even. At
 // order 2 the direct path stays the faster one while its factor fits (steel part, 155k DOFs:
 // 17.8 s direct, 111 s iterative; order2.md), so only the memory decides there.
 SolverChoice pick_solver(long free_dofs, int order, std::string& reason) {

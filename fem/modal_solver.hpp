@@ -56,7 +56,7 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
 // --solver: direct (CHOLMOD + Spectra), iterative (LOBPCG + PETSc GAMG, MPI-capable), or auto
 // (by DOF count and the estimated factor memory against the free memory).
 enum class SolverChoice { Direct, Iterative, Auto };
-inline constexpr long kAutoDirectMaxDofs = 150000;
+inline constexpr long kAutoDirectMaxDofs = 100000;
 SolverChoice solver_choice_from_option(const std::string& value);  // throws on a bad value
 
 struct ModalOptions {
