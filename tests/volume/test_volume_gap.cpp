@@ -1,6 +1,7 @@
-// The mixed mesh covers the tet mesh: its volume is within 1e-3 of the volume the surface mesh
-// encloses (which the tets fill exactly). Bilinear quad faces that no element shares lose volume
-// against the tets; on a coarse cone the elements losing most must go back to tets for it to hold.
+// The mixed mesh covers the tet mesh: its volume is within the 8e-4 budget of the volume the
+// surface mesh encloses (which the tets fill exactly). Bilinear quad faces that no element shares
+// lose volume against the tets; on a coarse cone the elements losing most must go back to tets for
+// it to hold.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -52,9 +53,9 @@ GapRun mesh_cone(double max_total_gap) {
   return r;
 }
 
-TEST(VolumeGap, CoarseConeCoversItsTetsWithin1em3) {
+TEST(VolumeGap, CoarseConeCoversItsTetsWithinTheBudget) {
   const GapRun limited = mesh_cone(8e-4);
-  EXPECT_LT(limited.rel_gap, 1e-3);
+  EXPECT_LE(limited.rel_gap, 8e-4);
   EXPECT_EQ(limited.stats.inverted, 0u);
   EXPECT_EQ(limited.stats.degenerate, 0u);
   EXPECT_TRUE(limited.stats.watertight);
