@@ -137,9 +137,7 @@ BlockVcycle::BlockVcycle(PC pc, int chebyshev_steps, double lo, double hi)
 }
 
 BlockVcycle::~BlockVcycle() {
-  for (Level& L : levels_) {
-    L.a.reset();
-    L.p.reset();
+  for (Level& L : levels_) {  // the block products hold their own references
     MatDestroy(&L.A);
     MatDestroy(&L.P);
   }

@@ -16,6 +16,7 @@
 #include "fem/block_vcycle.hpp"
 #include "fem/boundary.hpp"
 #include "fem/element.hpp"
+#include "fem/gamg.hpp"
 #include "fem/hex8_incompatible.hpp"
 #include "fem/krylov_schur.hpp"
 #include "fem/lobpcg.hpp"

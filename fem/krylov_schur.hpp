@@ -14,14 +14,6 @@
 
 namespace hexfem {
 
-// GAMG (smoothed aggregation) on the KSP's operator with the settings' threshold, prolongator
-// smoothing and coarse size; the near-null space comes from the matrix.
-void configure_gamg(KSP ksp, const IterativeSettings& s);
-
-// Frees what GAMG's Galerkin products (PtAP, the smoothed prolongators) keep for a later setup on
-// new values (never done here): on 2 ranks at 1M DOF that is about 1.3 GB held through the solve.
-void drop_galerkin_intermediates(PC pc);
-
 struct KrylovSchurRun {
   std::string failure;  // empty on success, else a one-line error with the residual reached
   long iterations = 0;

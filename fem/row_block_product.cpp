@@ -12,12 +12,6 @@
 namespace hexfem {
 namespace {
 
-struct CsrView {
-  PetscInt n;
-  const PetscInt *ia, *ja;
-  const PetscScalar* a;
-};
-
 // The kernels are compiled twice, for x86-64-v3 (AVX2, FMA: 22 % faster here) and for any x86-64,
 // and the loader picks the one the CPU runs.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
@@ -29,7 +23,7 @@ struct CsrView {
 // Columns [c0, c0 + C) of y = beta y + alpha A x, rows of k values. C fixed so that the
 // accumulators stay in registers.
 template <int C>
-HEXFEM_CLONES void rows_times_block(const CsrView& A, const double* x, int k, int c0, double* y,
+HEXFEM_CLONES void rows_times_block(const CsrArrays& A, const double* x, int k, int c0, double* y,
                                     double alpha, double beta) {
 #pragma omp parallel for schedule(static)
   for (PetscInt i = 0; i < A.n; ++i) {
@@ -47,7 +41,7 @@ HEXFEM_CLONES void rows_times_block(const CsrView& A, const double* x, int k, in
   }
 }
 
-using Kernel = void (*)(const CsrView&, const double*, int, int, double*, double, double);
+using Kernel = void (*)(const CsrArrays&, const double*, int, int, double*, double, double);
 
 template <int... C>
 constexpr auto kernel_table(std::integer_sequence<int, C...>) {
@@ -56,7 +50,7 @@ constexpr auto kernel_table(std::integer_sequence<int, C...>) {
 constexpr int kWidest = 16;  // wider blocks go through in chunks of 16 columns
 constexpr auto kKernels = kernel_table(std::make_integer_sequence<int, kWidest>{});
 
-void csr_times_block(const CsrView& A, const double* x, int k, double* y, double alpha,
+void csr_times_block(const CsrArrays& A, const double* x, int k, double* y, double alpha,
                      double beta) {
   for (int c0 = 0; c0 < k; c0 += kWidest) {
     const int width = std::min(kWidest, k - c0);
@@ -65,7 +59,7 @@ void csr_times_block(const CsrView& A, const double* x, int k, double* y, double
 }
 
 // y += Aᵀ x over A's rows [begin, end), rows of k values.
-HEXFEM_CLONES void csr_transpose_times_block(const CsrView& A, PetscInt begin, PetscInt end,
+HEXFEM_CLONES void csr_transpose_times_block(const CsrArrays& A, PetscInt begin, PetscInt end,
                                              const double* x, int k, double* y) {
   for (PetscInt i = begin; i < end; ++i) {
     const double* xr = x + static_cast<long>(i) * k;
@@ -92,7 +86,7 @@ RowBlockProduct::RowBlockProduct(Mat A, int k) : k_(k) {
     diag_ = A;
   HEXFEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(A)));
   whole_ = A;
-  const auto open = [](Mat m, Csr& c) {
+  const auto open = [](Mat m, CsrArrays& c) {
     PetscBool done;
     HEXFEM_PETSC(MatGetRowIJ(m, 0, PETSC_FALSE, PETSC_FALSE, &c.n, &c.ia, &c.ja, &done));
     if (!done) throw Error("RowBlockProduct: no CSR access to the matrix");
@@ -113,7 +107,7 @@ RowBlockProduct::RowBlockProduct(Mat A, int k) : k_(k) {
 }
 
 RowBlockProduct::~RowBlockProduct() {
-  const auto close = [](Mat m, Csr& c) {
+  const auto close = [](Mat m, CsrArrays& c) {
     if (!m || !c.ia) return;
     PetscBool done;
     MatSeqAIJRestoreArrayRead(m, &c.a);
@@ -132,13 +126,13 @@ void RowBlockProduct::multiply(const double* x, double* y, double alpha, double 
     HEXFEM_PETSC(VecPlaceArray(owned_, x));
     HEXFEM_PETSC(VecScatterBegin(scatter_, owned_, ghost_, INSERT_VALUES, SCATTER_FORWARD));
   }
-  csr_times_block({d_.n, d_.ia, d_.ja, d_.a}, x, k_, y, alpha, beta);
+  csr_times_block(d_, x, k_, y, alpha, beta);
   if (!off_) return;
   HEXFEM_PETSC(VecScatterEnd(scatter_, owned_, ghost_, INSERT_VALUES, SCATTER_FORWARD));
   HEXFEM_PETSC(VecResetArray(owned_));
   const PetscScalar* g;
   HEXFEM_PETSC(VecGetArrayRead(ghost_, &g));
-  csr_times_block({o_.n, o_.ia, o_.ja, o_.a}, g, k_, y, alpha, 1.0);
+  csr_times_block(o_, g, k_, y, alpha, 1.0);
   HEXFEM_PETSC(VecRestoreArrayRead(ghost_, &g));
 }
 
@@ -146,7 +140,7 @@ void RowBlockProduct::multiply(const double* x, double* y, double alpha, double 
 // copy of y (the first thread into y), then the copies are added.
 void RowBlockProduct::multiply_transpose(const double* x, double* y) {
   const long size = static_cast<long>(cols_) * k_;
-  const CsrView d{d_.n, d_.ia, d_.ja, d_.a};
+  const CsrArrays& d = d_;
   const int threads = omp_get_max_threads();
   std::fill(y, y + size, 0.0);
   if (threads == 1) {
@@ -169,7 +163,7 @@ void RowBlockProduct::multiply_transpose(const double* x, double* y) {
   HEXFEM_PETSC(VecSet(ghost_, 0.0));
   PetscScalar* g;
   HEXFEM_PETSC(VecGetArray(ghost_, &g));
-  csr_transpose_times_block({o_.n, o_.ia, o_.ja, o_.a}, 0, o_.n, x, k_, g);
+  csr_transpose_times_block(o_, 0, o_.n, x, k_, g);
   HEXFEM_PETSC(VecRestoreArray(ghost_, &g));
   HEXFEM_PETSC(VecPlaceArray(owned_, y));  // the ghosts' sums go home
   HEXFEM_PETSC(VecScatterBegin(scatter_, ghost_, owned_, ADD_VALUES, SCATTER_REVERSE));

@@ -14,6 +14,13 @@
 
 namespace hexfem {
 
+// A sequential AIJ matrix's arrays (PETSc's own, read in place).
+struct CsrArrays {
+  PetscInt n = 0;  // rows
+  const PetscInt *ia = nullptr, *ja = nullptr;
+  const PetscScalar* a = nullptr;
+};
+
 class RowBlockProduct {
  public:
   // A: MATSEQAIJ or MATMPIAIJ, assembled and not changed while this object lives; k >= 1.
@@ -32,14 +39,9 @@ class RowBlockProduct {
   PetscInt cols() const { return cols_; }
 
  private:
-  struct Csr {
-    PetscInt n = 0;
-    const PetscInt *ia = nullptr, *ja = nullptr;
-    const PetscScalar* a = nullptr;
-  };
   Mat whole_ = nullptr;                 // A (referenced)
   Mat diag_ = nullptr, off_ = nullptr;  // A's parts: this rank's columns, others' (MPI only)
-  Csr d_, o_;
+  CsrArrays d_, o_;
   int k_;
   PetscInt rows_ = 0, cols_ = 0, ghosts_ = 0;
   Vec owned_ = nullptr, ghost_ = nullptr;  // wrappers over the caller's x (or y) and the ghosts
