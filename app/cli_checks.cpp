@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <regex>
 
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
@@ -101,6 +102,28 @@ void check_mesh_volume(double mesh_volume, double cad_volume, double h, bool for
                 "too large for this part; use a smaller --h, or --force to accept it",
                 100 * off, mesh_volume, cad_volume, h);
   throw Error(msg);
+}
+
+void parse_size_at(const std::vector<std::string>& specs, double h,
+                   std::vector<std::pair<int, double>>& vertex_sizes,
+                   std::vector<std::pair<int, double>>& face_sizes) {
+  static const std::regex re(R"((vertex|face):(\d+)=([-+0-9.eE]+)(h?))");
+  for (const auto& s : specs) {
+    std::smatch m;
+    const std::string expected =
+        "--size-at '" + s + "': expected vertex:ID=S or face:ID=S (S in mm, or like 0.5h)";
+    if (!std::regex_match(s, m, re)) throw Error(expected);
+    int id = 0;
+    double size = 0;
+    try {
+      id = std::stoi(m[2].str());
+      size = std::stod(m[3].str());
+    } catch (const std::exception&) {
+      throw Error(expected);
+    }
+    if (m[4].length() > 0) size *= h;
+    (m[1].str() == "vertex" ? vertex_sizes : face_sizes).emplace_back(id, size);
+  }
 }
 
 }  // namespace hexfem

@@ -53,6 +53,7 @@ int run(const ConvergeArgs& a) {
     MeshOptions mesh;
     mesh.surface.h = a.sizes[i];
     mesh.surface.curvature = a.curvature;
+    parse_size_at(a.modal.size_at, a.sizes[i], mesh.surface.vertex_sizes, mesh.surface.face_sizes);
     mesh.volume.conformal = a.modal.conformal;
     std::fprintf(stderr, "converge: run %zu/%zu, h = %g ...\n", i + 1, a.sizes.size(), a.sizes[i]);
     const PartModalResult r = run_part_modal(cad, mesh, modal, a.modal.force, a.modal.order);

@@ -1,11 +1,10 @@
 // `hexfem mesh part.step --h 1.0 [--dim 3|2] -o mesh.msh|.vtu|.inp [--json] [--force]
-//  [--curvature N] [--size-at vertex:ID=h]...`: the hex-dominant mesh of a CAD part (--dim 3,
+//  [--curvature N] [--size-at vertex|face:ID=S]...`: the hex-dominant mesh of a CAD part (--dim 3,
 // the default; volume_mesh_cli.cpp) or its surface mesh (--dim 2).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <regex>
 
 #include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
@@ -35,17 +34,6 @@ struct MeshArgs {
   bool binary = false;
 };
 
-std::pair<int, double> parse_size_at(const std::string& s) {
-  static const std::regex re(R"(vertex:(\d+)=([-+0-9.eE]+))");
-  std::smatch m;
-  if (!std::regex_match(s, m, re)) throw Error("--size-at '" + s + "': expected vertex:ID=h");
-  try {
-    return {std::stoi(m[1].str()), std::stod(m[2].str())};
-  } catch (const std::exception&) {
-    throw Error("--size-at '" + s + "': expected vertex:ID=h");
-  }
-}
-
 int run(const MeshArgs& a) {
   using Clock = std::chrono::steady_clock;
   if (a.dim != 2 && a.dim != 3) throw Error("--dim must be 2 (surface) or 3 (volume)");
@@ -65,7 +53,7 @@ int run(const MeshArgs& a) {
   opt.h = a.h;
   opt.curvature = a.curvature;
   opt.force = a.force;
-  for (const auto& s : a.size_at) opt.vertex_sizes.push_back(parse_size_at(s));
+  parse_size_at(a.size_at, a.h, opt.vertex_sizes, opt.face_sizes);
   if (a.dim == 3) {
     VolumeMeshArgs v;
     v.file = a.file;
@@ -167,7 +155,10 @@ RegisterCommand reg{
            "work), and a mesh whose volume is more than 10 % off the CAD volume");
        sub.add_option("--curvature", a->curvature,
                       "curvature bound: N elements per 2*pi (0 = off)");
-       sub.add_option("--size-at", a->size_at, "size at a CAD vertex: vertex:ID=h");
+       sub.add_option(
+           "--size-at", a->size_at,
+           "size at a CAD vertex or face, repeatable: vertex:ID=S | face:ID=S (S in mm, or "
+           "0.5h: a fraction of --h)");
        sub.add_flag("--binary", a->binary, "write MSH 4.1 binary");
        sub.add_option("--k", a->volume.k, "point exclusion factor k (paper: 0.7)");
        sub.add_option("--min-quality", a->volume.min_quality,

@@ -103,6 +103,8 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
       throw Error("--mesh-out is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.conformal)
       throw Error("--conformal is for CAD input; '" + a.mesh + "' is already a mesh");
+    if (!a.modal.size_at.empty())
+      throw Error("--size-at is for CAD input; '" + a.mesh + "' is already a mesh");
   }
   if (!a.mesh_out.empty())
     check_output_file("--mesh-out", a.mesh_out, {"msh", "vtu", "inp"}, {a.mesh});
@@ -129,6 +131,8 @@ int run(const Args& a) {
     const CadModel cad = CadModel::read(a.mesh);
     MeshOptions mesh_options;
     mesh_options.surface.h = a.h;
+    parse_size_at(a.modal.size_at, a.h, mesh_options.surface.vertex_sizes,
+                  mesh_options.surface.face_sizes);
     mesh_options.volume.conformal = a.modal.conformal;
     part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
     mesh = std::move(part.mesh);

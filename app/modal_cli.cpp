@@ -29,6 +29,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                  "(default: by DOF count and the estimated factor memory)");
   sub.add_flag("--conformal", o.conformal,
                "CAD input: a mesh with no NC face (each made conformal with a pyramid and tets)");
+  sub.add_option("--size-at", o.size_at,
+                 "CAD input: size at a CAD vertex or face, repeatable: vertex:ID=S | face:ID=S (S "
+                 "in mm, or 0.5h: a fraction of --h)");
   sub.add_flag("--force", o.force,
                "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
 }

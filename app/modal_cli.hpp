@@ -17,7 +17,8 @@ struct ModalCliOptions {
   std::string hex8 = "incompatible";
   std::string solver = "auto";  // --solver direct|iterative|auto
   bool force = false;
-  bool conformal = false;  // --conformal: CAD input meshed with no NC face
+  bool conformal = false;            // --conformal: CAD input meshed with no NC face
+  std::vector<std::string> size_at;  // --size-at, CAD input: local sizes (parse_size_at)
   int order =
       1;  // element order, 1 or 2  // CAD input: accept a mesh whose volume is far off the CAD's
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;

@@ -11,7 +11,10 @@
 namespace hexfem {
 
 SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
-    : cad_(cad), h_(options.h), curvature_(options.curvature) {
+    : cad_(cad),
+      h_(options.h),
+      curvature_(options.curvature),
+      face_sizes_(!options.face_sizes.empty()) {
   if (!(h_ > 0) || !std::isfinite(h_))
     throw Error("the mesh size h must be > 0 (got " + std::to_string(h_) + ")");
   if (curvature_ < 0) throw Error("--curvature must be >= 0 elements per 2*pi");
@@ -20,25 +23,49 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
   vertex_size_.assign(static_cast<std::size_t>(cad.num_vertices()), h_);
   floor_ = h_ * options.min_ratio;
   h_min_ = curvature_ > 0 ? floor_ : h_;
+  // Below the smallest size the edge points no longer grade away from the vertex in a few dozen
+  // steps (1e-7 on the steel part: 16,000 edge points, 28 s; 1e-9 ran for minutes).
+  const double smallest = kMinRelativeSize * cad.bbox().diagonal();
+  auto check_size = [smallest](const char* what, int id, double s) {
+    char msg[200];
+    if (!(s > 0) || !std::isfinite(s)) {
+      std::snprintf(msg, sizeof msg, "--size-at %s:%d: size must be > 0", what, id);
+      throw Error(msg);
+    }
+    if (s < smallest) {
+      std::snprintf(msg, sizeof msg,
+                    "--size-at %s:%d=%g: sizes below %g mm (1e-5 of the part's diagonal) are "
+                    "not resolved",
+                    what, id, s, smallest);
+      throw Error(msg);
+    }
+  };
   for (const auto& [v, s] : options.vertex_sizes) {
     if (v < 1 || v > cad.num_vertices())
       throw Error("--size-at: no vertex " + std::to_string(v) + " (the part has " +
                   std::to_string(cad.num_vertices()) + " vertices)");
-    if (!(s > 0) || !std::isfinite(s))
-      throw Error("--size-at vertex:" + std::to_string(v) + ": size must be > 0");
-    // Below this the edge points no longer grade away from the vertex in a few dozen steps
-    // (1e-7 on the steel part: 16,000 edge points, 28 s; 1e-9 ran for minutes).
-    const double smallest = kMinRelativeSize * cad.bbox().diagonal();
-    if (s < smallest) {
-      char msg[200];
-      std::snprintf(msg, sizeof msg,
-                    "--size-at vertex:%d=%g: sizes below %g mm (1e-5 of the part's diagonal) are "
-                    "not resolved",
-                    v, s, smallest);
-      throw Error(msg);
-    }
+    check_size("vertex", v, s);
     vertex_size_[static_cast<std::size_t>(v - 1)] = s;
     h_min_ = std::min(h_min_, s);
+  }
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  face_vertex_size_.assign(vertex_size_.size(), kNone);
+  face_edge_size_.assign(static_cast<std::size_t>(cad.num_edges()), kNone);
+  for (const auto& [f, s] : options.face_sizes) {
+    if (f < 1 || f > cad.num_faces())
+      throw Error("--size-at: no face " + std::to_string(f) + " (the part has " +
+                  std::to_string(cad.num_faces()) + " faces)");
+    check_size("face", f, s);
+    h_min_ = std::min(h_min_, s);
+    for (const CoEdge& ce : cad.coedges(f)) {
+      auto& es = face_edge_size_[static_cast<std::size_t>(ce.edge - 1)];
+      es = std::min(es, s);
+      for (int v : cad.edge_vertices(ce.edge))
+        if (v > 0) {
+          auto& vs = face_vertex_size_[static_cast<std::size_t>(v - 1)];
+          vs = std::min(vs, s);
+        }
+    }
   }
   edge_uses_.resize(static_cast<std::size_t>(cad.num_edges()));
   for (int f = 1; f <= cad.num_faces(); ++f) {
@@ -85,13 +112,24 @@ double SizeField::surface_bound(int f, Vec2 uv) const {
 
 double SizeField::edge_size(int e, double t, double s) const {
   const auto [v0, v1] = cad_.edge_vertices(e);
-  const double h0 = v0 > 0 ? vertex_size(v0) : h_;
-  const double h1 = v1 > 0 ? vertex_size(v1) : h_;
-  double size = h0 + (h1 - h0) * std::clamp(s, 0.0, 1.0);
+  const double h0 = v0 > 0 ? vertex_size_[static_cast<std::size_t>(v0 - 1)] : h_;
+  const double h1 = v1 > 0 ? vertex_size_[static_cast<std::size_t>(v1 - 1)] : h_;
+  s = std::clamp(s, 0.0, 1.0);
+  double size = h0 + (h1 - h0) * s;
   if (curvature_ > 0) {
     size = std::min(size, curvature_bound(cad_.edge_curvature(e, t)));
     for (const auto& [f, c] : edge_uses_[static_cast<std::size_t>(e - 1)])
       size = std::min(size, surface_bound(f, cad_.coedge_uv(f, c, t)));
+  }
+  if (face_sizes_) {
+    size = std::min(size, face_edge_size_[static_cast<std::size_t>(e - 1)]);
+    const double length = cad_.edge_length(e);
+    if (v0 > 0)
+      size = std::min(size, face_vertex_size_[static_cast<std::size_t>(v0 - 1)] +
+                                kFaceSizeGrading * s * length);
+    if (v1 > 0)
+      size = std::min(size, face_vertex_size_[static_cast<std::size_t>(v1 - 1)] +
+                                kFaceSizeGrading * (1 - s) * length);
   }
   return size;
 }

@@ -1,6 +1,6 @@
 // Stage 1 of the surface mesher: the size field. A global size h, optional sizes at CAD
-// vertices, and a curvature bound (N elements per 2*pi of turning). Vertex sizes spread along
-// edges by 1D interpolation in arc length (paper, "Cross fields"); faces get theirs from a
+// vertices and faces, and a curvature bound (N elements per 2*pi of turning). Vertex sizes spread
+// along edges by 1D interpolation in arc length (paper, "Cross fields"); faces get theirs from a
 // Laplace solve with the edge sizes as Dirichlet data (cross_field.cpp, same background mesh).
 //
 // Takes: the CAD model and SurfaceOptions (h, curvature, vertex sizes).
@@ -8,6 +8,7 @@
 // Keeps: sizes in (0, h]; the same size on both sides of an edge.
 #pragma once
 
+#include <algorithm>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -18,11 +19,18 @@ namespace hexfem {
 
 // The smallest size a user may ask for at a vertex, relative to the part's bounding-box diagonal.
 inline constexpr double kMinRelativeSize = 1e-5;
+// Growth of the size away from a sized face along an edge, per unit length: the rate at which the
+// face interiors and the volume grow from a fine boundary (cross_field.cpp, frame_field_3d.hpp).
+inline constexpr double kFaceSizeGrading = 0.3;
 
 struct SizeOptions {
   double h = 1.0;                                    // global target size, mm
   int curvature = 0;                                 // elements per 2*pi; 0 = no curvature bound
   std::vector<std::pair<int, double>> vertex_sizes;  // (CAD vertex id, size)
+  // (CAD face id, size): the face's edges take at most that size, so its interior (Laplace from
+  // the edges) and the volume next to it do too; edges leaving the face grow from it by
+  // kFaceSizeGrading per mm instead of spreading the fine size along their whole length.
+  std::vector<std::pair<int, double>> face_sizes;
   // The curvature bound never goes below h * min_ratio (a tiny fillet radius would otherwise
   // ask for an unbounded number of points).
   double min_ratio = 0.05;
@@ -30,14 +38,17 @@ struct SizeOptions {
 
 class SizeField {
  public:
-  // Throws hexfem::Error on h <= 0, a bad vertex id or a size <= 0.
+  // Throws hexfem::Error on h <= 0, a bad vertex or face id or a size <= 0.
   SizeField(const CadModel& cad, const SizeOptions& options);
 
   double global() const { return h_; }
   double min_size() const { return h_min_; }
   // The smallest size any automatic bound (curvature, narrow faces) may ask for.
   double floor() const { return floor_; }
-  double vertex_size(int v) const { return vertex_size_[static_cast<std::size_t>(v - 1)]; }
+  double vertex_size(int v) const {
+    const auto i = static_cast<std::size_t>(v - 1);
+    return std::min(vertex_size_[i], face_vertex_size_[i]);
+  }
   // The size bound from a curvature kappa (infinite when the bound is off or kappa = 0).
   double curvature_bound(double kappa) const;
   // Size bound of face f at (u, v) from the surface's curvature.
@@ -53,7 +64,10 @@ class SizeField {
   double h_min_;  // smallest size anywhere (curvature floor or a vertex size)
   double floor_;  // smallest size the curvature bound may ask for
   int curvature_;
-  std::vector<double> vertex_size_;
+  bool face_sizes_;                       // any --size-at face given
+  std::vector<double> vertex_size_;       // global, curvature and --size-at vertex sizes
+  std::vector<double> face_vertex_size_;  // the smallest --size-at face size around the vertex
+  std::vector<double> face_edge_size_;    // the same for the edge (infinite when none)
   // For each edge, the faces it bounds with one coedge index in each (for the pcurve).
   std::vector<std::vector<std::pair<int, int>>> edge_uses_;
 };

@@ -52,6 +52,7 @@ SizeOptions size_options(const SurfaceOptions& o) {
   s.h = o.h;
   s.curvature = o.curvature;
   s.vertex_sizes = o.vertex_sizes;
+  s.face_sizes = o.face_sizes;
   return s;
 }
 

@@ -20,6 +20,7 @@ struct SurfaceOptions {
   double h = 1.0;                                    // target size, mm
   int curvature = 0;                                 // elements per 2*pi, 0 = off
   std::vector<std::pair<int, double>> vertex_sizes;  // (CAD vertex id, size)
+  std::vector<std::pair<int, double>> face_sizes;    // (CAD face id, size)
   double k = 0.7;                                    // packing exclusion factor (paper: 0.7)
   bool force = false;                                // allow more than max_points
   // Surface points estimated before the work (from h, then from the sizes the edges got): 1e6

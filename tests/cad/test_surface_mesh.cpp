@@ -325,7 +325,44 @@ TEST(SurfaceMesh, SizeOptions) {
   EXPECT_LT(nearest, 0.04);
   EXPECT_GT(nearest, 0.01);
 
+  // A size on a face: its triangles take that size, the opposite face keeps h (the size grows
+  // away from the face by kFaceSizeGrading per unit length, reaching h = 0.2 at x = 0.5).
+  opt.vertex_sizes.clear();
+  opt.face_sizes = {{1, 0.05}};  // x = 0
+  const SurfaceMesh sf = mesh_surface(box, opt);
+  expect_valid(sf, box, "box with a face size");
+  auto mean_edge_on = [&sf](int face) {  // mean edge length of the face's triangles
+    const auto& m = sf.mesh;
+    double sum = 0;
+    int n = 0;
+    for (std::size_t t = 0; t < m.bface_cad_face.size(); ++t) {
+      if (m.bface_cad_face[t] != face) continue;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 &a = m.nodes[m.bface_nodes[4 * t + k]],
+                   &b = m.nodes[m.bface_nodes[4 * t + (k + 1) % 3]];
+        sum += std::sqrt(
+            dot({a[0] - b[0], a[1] - b[1], a[2] - b[2]}, {a[0] - b[0], a[1] - b[1], a[2] - b[2]}));
+        ++n;
+      }
+    }
+    return n > 0 ? sum / n : 0.0;
+  };
+  EXPECT_GT(mean_edge_on(1), 0.035);
+  EXPECT_LT(mean_edge_on(1), 0.065);
+  EXPECT_GT(mean_edge_on(2), 0.15);
+  EXPECT_LT(mean_edge_on(2), 0.25);
+
   // Bad sizes and budgets are refused with one-line errors.
+  opt.face_sizes = {{7, 0.05}};
+  try {
+    mesh_surface(box, opt);
+    ADD_FAILURE() << "no error for face 7";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no face 7"), std::string::npos) << e.what();
+  }
+  opt.face_sizes = {{1, -1}};
+  EXPECT_THROW(mesh_surface(box, opt), Error);
+  opt.face_sizes.clear();
   opt.vertex_sizes = {{99, 0.1}};
   EXPECT_THROW(mesh_surface(box, opt), Error);
   opt.vertex_sizes.clear();
