@@ -10,9 +10,11 @@
 #include "fem/nc_ties.hpp"
 #include "fem/petsc_env.hpp"
 #include "mesher/cad/cad_project.hpp"
+#include "mesher/conformal.hpp"
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/progress.hpp"
+#include "mesher/mesh/quad8.hpp"
 
 namespace hexfem {
 
@@ -31,7 +33,9 @@ void check_fixed_faces_exist(const CadModel& cad, const std::vector<std::string>
                     "; see hexfem info)");
 }
 
-Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad) {
+namespace {
+
+Order2Report add_order2_nodes(MixedMesh& mesh, const CadModel* cad) {
   Order2Report report;
   MidEdgeProjector project;
   if (cad)
@@ -43,6 +47,41 @@ Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad) {
   straighten_invalid_cells(mesh, element_jacobian_ratio, 0.05, &report);
   place_hanging_nodes_on_quads(mesh, element_jacobian_ratio, 0.05, &report);
   return report;
+}
+
+// The NC quads (corner ids) of an order-2 mesh whose hanging node cannot be tied: it lies off
+// the quad8 (placing it there would have degraded a cell) or its tie would be nested.
+std::vector<std::array<std::int32_t, 4>> untied_nc_quads(const MixedMesh& mesh) {
+  std::vector<std::array<std::int32_t, 4>> out;
+  const NodeTies ties = nc_face_ties(mesh);
+  if (ties.refused == 0) return out;
+  for (const NcQuad8& q : nc_quad8_faces(mesh)) {
+    bool untied = false;
+    for (const std::int32_t h : q.diagonal) untied = untied || (h >= 0 && !ties.tied(h));
+    if (untied) out.push_back({q.nodes[0], q.nodes[1], q.nodes[2], q.nodes[3]});
+  }
+  return out;
+}
+
+}  // namespace
+
+Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad) {
+  // An untied hanging node lets its face open: the part comes out too soft, below the converged
+  // frequencies (validation/order2.md section 5). With the geometry at hand those faces are
+  // made conformal on the order-1 mesh (a pyramid and tets, as --conformal does everywhere) and
+  // the order-2 nodes are made again.
+  MixedMesh linear;
+  if (cad && !mesh.nc_cell.empty()) linear = mesh;
+  Order2Report report = add_order2_nodes(mesh, cad);
+  if (!cad || linear.nodes.empty()) return report;
+  ConformalOptions co;
+  co.only_quads = untied_nc_quads(mesh);
+  if (co.only_quads.empty()) return report;
+  const ConformalReport cr = make_conformal(linear, co);
+  Order2Report again = add_order2_nodes(linear, cad);
+  again.nc_made_conformal = static_cast<long>(cr.nc_before - cr.nc_after);
+  mesh = std::move(linear);
+  return again;
 }
 
 MeshWriteOptions mesh_write_options(const MixedMesh& mesh, const std::filesystem::path& path,

@@ -103,10 +103,15 @@ void to_json(nlohmann::json& j, const SurfaceReport& r) {
 }
 
 void to_json(nlohmann::json& j, const Order2Report& r) {
-  j = {{"edge_nodes", r.edge_nodes},         {"boundary_nodes", r.boundary_nodes},
-       {"curved_nodes", r.curved_nodes},     {"projection_refused", r.projection_refused},
-       {"max_offset", r.max_offset},         {"straightened_cells", r.straightened_cells},
-       {"hanging_placed", r.hanging_placed}, {"hanging_kept", r.hanging_kept}};
+  j = {{"edge_nodes", r.edge_nodes},
+       {"boundary_nodes", r.boundary_nodes},
+       {"curved_nodes", r.curved_nodes},
+       {"projection_refused", r.projection_refused},
+       {"max_offset", r.max_offset},
+       {"straightened_cells", r.straightened_cells},
+       {"hanging_placed", r.hanging_placed},
+       {"hanging_kept", r.hanging_kept},
+       {"nc_made_conformal", r.nc_made_conformal}};
 }
 
 }  // namespace hexfem

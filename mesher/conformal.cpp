@@ -692,7 +692,16 @@ ConformalReport make_conformal(MixedMesh& mesh, const ConformalOptions& options)
   ConformalReport r;
   r.nc_before = mesh.nc_cell.size();
   r.hex_volume_before = hex_volume(mesh, &r.volume);
-  if (split_on_boundary_triangles(mesh, options, r) > 0) flag_nonconformal_quads(mesh);
+  const bool some = !options.only_quads.empty();
+  std::vector<std::array<std::int32_t, 4>> only = options.only_quads;
+  for (auto& q : only) std::sort(q.begin(), q.end());
+  std::sort(only.begin(), only.end());
+  auto wanted = [&only, some](std::array<std::int32_t, 4> q) {
+    if (!some) return true;
+    std::sort(q.begin(), q.end());
+    return std::binary_search(only.begin(), only.end(), q);
+  };
+  if (!some && split_on_boundary_triangles(mesh, options, r) > 0) flag_nonconformal_quads(mesh);
   // In the order of the NC flags (deterministic); a face is looked at again, since an earlier
   // split of its cell may have made it conformal already. A few rounds: a split next to a flat
   // sliver can leave the sliver's other side to the next round.
@@ -703,7 +712,7 @@ ConformalReport make_conformal(MixedMesh& mesh, const ConformalOptions& options)
     r.failed = 0;
     for (std::size_t i = 0; i < nc_cell.size(); ++i) {
       const std::int32_t cell = nc_cell[i];
-      if (!em.alive(cell)) continue;
+      if (!em.alive(cell) || !wanted(quad_of(em, cell, nc_face[i]))) continue;
       if (em.far_diagonal(quad_of(em, cell, nc_face[i]), cell) < 0) continue;
       if (drop_flat_sliver_on(em, cell, nc_face[i])) ++r.absorbed_slivers;
       if (fill_half_shell(em, cell, nc_face[i], options, r)) continue;
@@ -713,7 +722,7 @@ ConformalReport make_conformal(MixedMesh& mesh, const ConformalOptions& options)
     em.compact();
     flag_nonconformal_quads(mesh);
   }
-  if (options.target_volume > 0) {
+  if (options.target_volume > 0 && !some) {
     const double t = options.target_volume;
     r.gap_before_bulge = r.gap_after_bulge = (enclosed_volume(mesh) - t) / t;
     const std::vector<BulgeSplit> splits =

@@ -19,6 +19,8 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "mesher/mesh/mixed_mesh.hpp"
 
@@ -30,6 +32,10 @@ struct ConformalOptions {
   // bulging boundary quads get two triangles (boundary_bulge.hpp).
   double target_volume = 0;
   double max_gap = 8e-4;
+  // Only these NC quads (their corner ids, in any order); empty: every one. With a list, the
+  // boundary passes (pyramids on two boundary triangles, bulging quads) are skipped: the order-2
+  // raise uses it for the faces whose hanging node cannot be tied (part_modal.cpp).
+  std::vector<std::array<std::int32_t, 4>> only_quads;
 };
 
 struct ConformalReport {

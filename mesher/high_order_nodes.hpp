@@ -18,8 +18,9 @@ struct Order2Report {
   double max_offset = 0;        // largest |node - midpoint| / edge length
   long straightened_cells = 0;  // cells made valid by setting their curved nodes back straight
   long straightened_nodes = 0;
-  long hanging_placed = 0;  // NC faces' mid-diagonal nodes moved onto their quad's surface
-  long hanging_kept = 0;    // left where they were: a cell around them would have degraded
+  long hanging_placed = 0;     // NC faces' mid-diagonal nodes moved onto their quad's surface
+  long hanging_kept = 0;       // left where they were: a cell around them would have degraded
+  long nc_made_conformal = 0;  // NC faces made conformal instead (app/part_modal.cpp)
 };
 
 // Where the mid-edge node of boundary edge (a, b) goes: the edge lies on CAD faces face1 and

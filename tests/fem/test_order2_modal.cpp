@@ -52,22 +52,27 @@ TEST(Order2Modal, SteelPartAtH2BoundsTheReferenceWithinAQuarterPercent) {
   }
 }
 
-// The cylinder at h = 2.83, against the graded C3D20 O-grid reference of validation/order2.md
-// section 5 (f1 = f2 = 5182.13, f3 18868.58, f4 25552.97 Hz): with the hanging nodes left off
-// their quads the worst of f1-f4 was 0.70 % off (too soft); on them, 0.13 %.
-TEST(Order2Modal, CylinderHangingNodesOnTheirQuadsWithinAQuarterPercent) {
+// The cylinder at h = 2, against the graded C3D20 O-grid reference of validation/order2.md
+// section 5 (f1 = f2 = 5182.13, f3 18868.58, f4 25552.97 Hz). With hanging nodes left free (off
+// their twisted quads) the mesh came out too soft: f3, torsion, 0.33 % below, f1 below too. Now
+// each NC face whose node cannot be tied is made conformal, so the mesh is an upper bound:
+// every f from above, within 0.2 %, and torsion (no clamp singularity) within 0.01 %.
+TEST(Order2Modal, CylinderIsAnUpperBoundOnceUntiedFacesAreConformal) {
   int code = 0;
   const std::string out = run("modal " + std::string(HEXFEM_TEST_DATA) +
-                                  "/cylinder.stp --h 2.8284271 --fix 'y<177.501' --modes 4 "
+                                  "/cylinder.stp --h 2 --fix 'y<177.501' --modes 4 "
                                   "--order 2 --json",
                               &code);
   ASSERT_EQ(code, 0) << out;
   const nlohmann::json j = nlohmann::json::parse(out.substr(out.find('{')));
   EXPECT_GT(j["order2"]["hanging_placed"], 0);
+  EXPECT_GT(j["order2"]["nc_made_conformal"], 0);
+  EXPECT_EQ(j["order2"]["hanging_kept"], 0);
   const double ref[4] = {5182.13, 5182.13, 18868.58, 25552.97};
   for (int m = 0; m < 4; ++m) {
     const double f = j["modes"][m]["frequency_hz"];
-    EXPECT_LT(std::abs(f / ref[m] - 1), 2.5e-3) << "f" << m + 1 << " " << f << " vs " << ref[m];
+    EXPECT_GT(f / ref[m] - 1, -1e-4) << "f" << m + 1 << " " << f << " vs " << ref[m];
+    EXPECT_LT(f / ref[m] - 1, m == 2 ? 1e-4 : 2e-3) << "f" << m + 1 << " " << f << " vs " << ref[m];
   }
 }
 
