@@ -12,6 +12,8 @@ Shares no code with hexfem. Used by make_reference.sh. Subcommands:
 
 Units: lengths in mm, E in MPa (N/mm^2), density in t/mm^3, so ccx's frequencies are in Hz.
 Clamp: every node with x = min(x) fixed; REFERENCE_CLAMP_AXIS=y or z clamps at min(y) or min(z).
+Graded clamp face: REFERENCE_CLAMP_SIZE=S (mm, or "0.35h", a fraction of h) meshes the clamp face
+at size S and grows the size at 0.3 mm per mm back to h, as hexfem's --size-at face:ID=S does.
 Free-free: REFERENCE_FREE=1 (or free=True to write_deck / run_size / study) writes no *BOUNDARY,
 asks ccx for nmodes + 6 and keeps only the elastic frequencies (the six rigid-body ones, checked
 to be below 1e-3 of the first elastic one, are dropped; run records keep them as rigid_hz).
@@ -303,19 +305,80 @@ def split_rigid(freqs, nmodes, where):
     return elastic, rigid
 
 
-def run_size(geometry, h, workdir, name, nmodes, clamp_h=None, clamp_depth=2.0, free=None):
-    """Meshes at size h (clamp_h near x = 0 if given), writes the deck, runs ccx; returns the
-    run record. Free-free (free_free(free)): frequencies_hz holds the elastic frequencies only,
-    rigid_hz the six rigid-body ones dropped."""
+GRADING_RATE = 0.3  # hexfem's --size-at face grading: the size grows 0.3 mm per mm
+
+
+def clamp_size(h, size=None):
+    """The clamp-face size in mm for mesh size h: the argument, else REFERENCE_CLAMP_SIZE
+    (mm, or a fraction of h written like hexfem's --size-at: "0.35h"); None when neither is set."""
+    if size is None:
+        size = os.environ.get("REFERENCE_CLAMP_SIZE") or None
+    if size is None:
+        return None
+    text = str(size).strip()
+    try:
+        value = float(text[:-1]) * h if text.endswith("h") else float(text)
+    except ValueError:
+        sys.exit(f"clamp size must be a size in mm or a fraction of h like 0.35h, got {size!r}")
+    if not 0 < value <= h:
+        sys.exit(f"clamp size {text} gives {value:g} mm, outside (0, h = {h:g}]")
+    return value
+
+
+def face_graded_geo(geometry, h, size, axis, path, rate=GRADING_RATE):
+    """A Gmsh script grading like hexfem's --size-at face:ID=S: size S on the clamp surfaces
+    (every surface inside the plane axis = min of the part's bounding box), growing linearly
+    away from them at `rate` mm per mm back to h (Threshold on a Distance field, reached at
+    the distance (h - S) / rate); the background field alone sets the size."""
+    a = "xyz".index(axis) if isinstance(axis, str) else axis
+    lo = ["bb(0) - e", "bb(1) - e", "bb(2) - e"]
+    hi = ["bb(3) + e", "bb(4) + e", "bb(5) + e"]
+    hi[a] = "bb(%d) + e" % a  # the slab around the minimum plane
+    with open(path, "w") as f:
+        f.write('Merge "%s";\n' % os.path.abspath(geometry))
+        f.write("// the part's bounding box over all volumes\n")
+        f.write("v() = Volume{:};\nbb() = BoundingBox Volume{v(0)};\n")
+        f.write("For i In {1:#v()-1}\n  b() = BoundingBox Volume{v(i)};\n  For k In {0:2}\n"
+                "    bb(k) = (b(k) < bb(k)) ? b(k) : bb(k);\n"
+                "    bb(k+3) = (b(k+3) > bb(k+3)) ? b(k+3) : bb(k+3);\n  EndFor\nEndFor\n")
+        f.write("e = 1e-3 * (bb(%d) - bb(%d));\n" % (a + 3, a))
+        f.write("clamp() = Surface In BoundingBox{%s, %s};\n" % (", ".join(lo), ", ".join(hi)))
+        f.write('If (#clamp() == 0)\n  Error("no surface in the plane %s = min");\n  Abort;\n'
+                'EndIf\n' % "xyz"[a])
+        f.write('Printf("clamp surfaces (%s = min): %%g", #clamp());\n' % "xyz"[a])
+        f.write("Field[1] = Distance; Field[1].FacesList = {clamp()};\n")
+        f.write("Field[2] = Threshold; Field[2].InField = 1;\n")
+        f.write("Field[2].SizeMin = %r; Field[2].SizeMax = %r;\n" % (size, h))
+        f.write("Field[2].DistMin = 0; Field[2].DistMax = %r;\n" % ((h - size) / rate))
+        f.write("Background Field = 2;\n")
+        f.write("Mesh.MeshSizeExtendFromBoundary = 0; Mesh.MeshSizeFromPoints = 0;\n")
+        f.write("Mesh.MeshSizeFromCurvature = 0;\n")
+
+
+def run_size(geometry, h, workdir, name, nmodes, clamp_h=None, clamp_depth=2.0, free=None,
+             clamp_size_mm=None):
+    """Meshes at size h, writes the deck, runs ccx; returns the run record.
+
+    Mesh: uniform h; with clamp_h, size clamp_h within clamp_depth of x = 0 (Box field); with a
+    clamp size (clamp_size_mm, or REFERENCE_CLAMP_SIZE: mm or "0.35h"), graded like hexfem's
+    --size-at face: that size on the clamp face (the axis of clamp_axis() = min), growing at
+    0.3 mm per mm back to h. Free-free (free_free(free)): frequencies_hz holds the elastic
+    frequencies only, rigid_hz the six rigid-body ones dropped."""
     free = free_free(free)
+    size = None if clamp_h is not None else clamp_size(h, clamp_size_mm)
+    if size is not None and free:
+        sys.exit("a graded clamp face needs a clamp: not with REFERENCE_FREE=1")
     base = os.path.join(workdir, "%s_h%g" % (name, h))
     msh, job = base + ".msh", base
-    if clamp_h is None:
-        gmsh_cmd = ["gmsh", geometry, "-3", "-order", "2", "-clmax", repr(h), "-clmin", repr(h),
-                    "-format", "msh22", "-o", msh]
-    else:
+    if clamp_h is not None:
         graded_geo(geometry, h, clamp_h, clamp_depth, base + ".geo")
         gmsh_cmd = ["gmsh", base + ".geo", "-3", "-order", "2", "-format", "msh22", "-o", msh]
+    elif size is not None:
+        face_graded_geo(geometry, h, size, clamp_axis(), base + ".geo")
+        gmsh_cmd = ["gmsh", base + ".geo", "-3", "-order", "2", "-format", "msh22", "-o", msh]
+    else:
+        gmsh_cmd = ["gmsh", geometry, "-3", "-order", "2", "-clmax", repr(h), "-clmin", repr(h),
+                    "-format", "msh22", "-o", msh]
     t0 = time.time()
     with open(base + ".gmsh.log", "w") as log:
         subprocess.run(gmsh_cmd, check=True, stdout=log, stderr=subprocess.STDOUT)
@@ -339,6 +402,7 @@ def run_size(geometry, h, workdir, name, nmodes, clamp_h=None, clamp_depth=2.0, 
     run = {"h": h, **info, "frequencies_hz": freqs,
            **({} if rigid is None else {"rigid_hz": rigid}),
            **({} if clamp_h is None else {"clamp_h": clamp_h, "clamp_depth": clamp_depth}),
+           **({} if size is None else {"clamp_size": size, "grading_rate": GRADING_RATE}),
            "seconds_gmsh": round(t1 - t0, 2), "seconds_deck": round(t2 - t1, 2),
            "seconds_ccx": round(t3 - t2, 2), "seconds_total": round(t3 - t0, 2),
            "gmsh_command": " ".join(gmsh_cmd), "ccx_command": " ".join(ccx_cmd)}
