@@ -4,13 +4,19 @@
 chain Gmsh P2 tets + CalculiX C3D10 (validation/reference/reference_chain.py).
 
   validation/order2_comparison.py [--hexfem BIN] [--out validation/out/order2_comparison]
-      [--models steel,cylinder,cone] [--json validation/order2_comparison.json]
-      [--png validation/order2_comparison.png]
+      [--models steel,cylinder,cone,sphere,cylinder_graded] [--json validation/order2_comparison.json]
+      [--png validation/order2_comparison.png] [--reference MODEL=FILE ...]
 
-Each model: its reference (validation/reference/<model>.json, the chain's Richardson
-extrapolation from its finest sizes), hexfem `modal PART --h H --order 1|2 --fix ... --json` at
-each size (wall clock of the whole process: CAD read, mesh, order-2 nodes, assembly, solve), and
-the chain at coarser sizes (wall of gmsh + deck + ccx, ccx on one thread as the chain runs it).
+Each model: its reference (the model's "reference" file in validation/reference/, or
+--reference MODEL=FILE: the chain's Richardson extrapolation from its finest sizes, the C3D20
+O-grid for the cylinder, Lamb's analytic frequencies for the sphere), hexfem
+`modal PART --h H --order 1|2 --fix ... --json` at each size (wall clock of the whole process:
+CAD read, mesh, order-2 nodes, assembly, solve), and the chain at coarser sizes (wall of gmsh +
+deck + ccx, ccx on one thread as the chain runs it).
+Free-free models ("free"): hexfem `--free --modes 16`, the chain with no *BOUNDARY; both drop the
+six rigid-body modes after checking them (|f| < 1e-3 of the first elastic one). Graded models
+("clamp_face", "clamp_fraction" F): hexfem `--size-at face:ID=Fh`, the chain graded alike
+(size F*h on the clamp face, +0.3 mm per mm back to h: reference_chain.py REFERENCE_CLAMP_SIZE).
 Runs one after the other, never two at once. Writes the JSON, a Markdown table and the PNG
 (gnuplot). Only stdlib + numpy; run with /usr/bin/python3.
 """
@@ -35,44 +41,83 @@ MODELS = {
               "axis": "x", "reference": "steel_part.json",
               "order1": [2, 1.4142136, 1, 0.7071068], "order2": [4, 2.8284271, 2, 1.4142136],
               "tet10": [4, 3.2, 2.5, 2]},
+    # the C3D20 O-grid reference (order2.md section 5); --reference cylinder=cylinder.json for
+    # the chain's own
     "cylinder": {"step": os.path.join(SHARED, "cylinder.stp"), "fix": "y<177.501", "axis": "y",
-                 "reference": "cylinder.json", "order1": [2, 1.4142136, 1, 0.7071068],
+                 "reference": "cylinder_c20.json", "order1": [2, 1.4142136, 1, 0.7071068],
                  "order2": [4, 2.8284271, 2, 1.4142136], "tet10": [4, 3.2, 2.5, 2]},
     "cone": {"step": os.path.join(SHARED, "Cone_1.brep"), "fix": "z<0.001", "axis": "z",
              "reference": "cone.json", "order1": [20, 14.142136, 10, 7.0710678],
              "order2": [40, 28.284271, 20, 14.142136], "tet10": [40, 28, 20, 16]},
+    # free-free, no singularity: Lamb's analytic frequencies (reference/sphere_lamb.py)
+    "sphere": {"step": os.path.join(SHARED, "sphere.stp"), "free": True,
+               "reference": "sphere.json", "order1": [1.4142136, 1, 0.7071068, 0.5, 0.4],
+               # at h >= 3.5 hexfem meshes again with a curvature bound (the same ~11k DOF)
+               "order2": [3, 2.5, 2, 1.5, 1], "tet10": [5, 4, 3, 2.5, 2]},
+    # the cylinder with the clamp face (CAD face 3, y = 177.5) graded in both chains
+    "cylinder_graded": {"step": os.path.join(SHARED, "cylinder.stp"), "fix": "y<177.501",
+                        "axis": "y", "clamp_face": 3, "clamp_fraction": 0.5,
+                        "reference": "cylinder_c20.json", "order1": [2, 1.4142136, 1, 0.7071068],
+                        "order2": [4, 2.8284271, 2, 1.4142136], "tet10": [4, 3.2, 2.5, 2]},
 }
 NF = 4  # f1..f4
+NRIGID = 6  # rigid-body modes of a free-free model, dropped
 
 
 def max_error(freqs, ref):
     return max(abs(f - r) / r for f, r in zip(freqs[:NF], ref[:NF]))
 
 
+def drop_rigid(freqs, where):
+    """The elastic frequencies of a free-free run: the six lowest must be rigid-body modes."""
+    rigid, elastic = freqs[:NRIGID], freqs[NRIGID:]
+    if not elastic or max(abs(f) for f in rigid) >= 1e-3 * elastic[0]:
+        raise RuntimeError(f"{where}: the six lowest frequencies {rigid} are not rigid-body modes")
+    return elastic, rigid
+
+
 def hexfem_run(args, model, h, order, work):
-    cmd = [args.hexfem, "modal", model["step"], "--h", f"{h:g}", "--order", str(order), "--fix",
-           model["fix"], "--modes", "6", "--json"]
+    if model.get("free"):
+        bc = ["--free", "--modes", str(10 + NRIGID)]
+    else:
+        bc = ["--fix", model["fix"], "--modes", "6"]
+    if "clamp_face" in model:
+        bc += ["--size-at", f"face:{model['clamp_face']}={model['clamp_fraction']:g}h"]
+    cmd = [args.hexfem, "modal", model["step"], "--h", f"{h:g}", "--order", str(order)] + bc + [
+        "--json"]
     t0 = time.time()
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=work)
     wall = time.time() - t0
     if p.returncode != 0:
         return {"h": h, "order": order, "error": p.stderr.strip()[-500:], "command": " ".join(cmd)}
     d = json.loads(p.stdout)
+    freqs, rigid = [m["frequency_hz"] for m in d["modes"]], None
+    if model.get("free"):
+        try:
+            freqs, rigid = drop_rigid(freqs, f"hexfem h = {h:g} order {order}")
+        except RuntimeError as e:
+            return {"h": h, "order": order, "error": str(e), "command": " ".join(cmd)}
     return {"h": h, "order": order, "dofs": d["free_dofs"], "matrix_nnz": d.get("matrix_nnz"),
             "wall_s": wall, "mesh_s": d["mesh"].get("mesh_seconds"),
             "peak_memory_bytes": d["solver"].get("peak_memory_bytes"),
             "cells": {k: d["mesh"].get(k) for k in ("hex8", "wedge6", "pyramid5", "tet4")},
             "straightened": d.get("order2", {}).get("straightened_cells"),
-            "frequencies_hz": [m["frequency_hz"] for m in d["modes"]],
+            "frequencies_hz": freqs, **({} if rigid is None else {"rigid_hz": rigid}),
             "command": " ".join(cmd)}
 
 
 def tet10_run(model, h, work):
-    os.environ["REFERENCE_CLAMP_AXIS"] = model["axis"]
-    r = chain.run_size(model["step"], h, work, "cmp", 6)
+    free = bool(model.get("free"))
+    if not free:
+        os.environ["REFERENCE_CLAMP_AXIS"] = model["axis"]
+    # the graded clamp at the same size as hexfem's --size-at face:ID=Fh; "" = uniform
+    os.environ["REFERENCE_CLAMP_SIZE"] = (f"{model['clamp_fraction']:g}h"
+                                          if "clamp_face" in model else "")
+    r = chain.run_size(model["step"], h, work, "cmp", 10 if free else 6, free=free)
     return {"h": h, "dofs": r["dofs"], "wall_s": r["seconds_total"], "elements": r["elements"],
             "seconds_gmsh": r["seconds_gmsh"], "seconds_ccx": r["seconds_ccx"],
             "frequencies_hz": r["frequencies_hz"],
+            **({k: r[k] for k in ("rigid_hz", "clamp_size") if k in r}),
             "command": r["gmsh_command"] + " ; ccx (reference_chain.py deck)"}
 
 
@@ -169,7 +214,8 @@ def plot(doc, png):
     titles = ["hexfem order 1", "hexfem order 2", "Gmsh P2 + ccx C3D10"]
     for i, name in enumerate(names):
         for col, xl in ((1, "DOF"), (2, "wall time, mesh + solve (s)")):
-            g += [f"set title '{name}'", f"set xlabel '{xl}'"]
+            # noenhanced: an underscore in a model name is not a subscript
+            g += [f"set title '{name}' noenhanced", f"set xlabel '{xl}'"]
             parts = [f"'{data}' index {3 * i + k} using {col}:3 with linespoints {styles[k]} "
                      f"title '{titles[k]}'" for k in range(3)]
             parts.append("0.1 with lines dt 2 lc rgb 'black' title '0.1 %'")
@@ -189,6 +235,8 @@ def main():
     ap.add_argument("--png", default=os.path.join(HERE, "order2_comparison.png"))
     ap.add_argument("--md", default=None, help="Markdown tables (default: <out>/tables.md)")
     ap.add_argument("--replot", action="store_true", help="only redraw the PNG from --json")
+    ap.add_argument("--reference", action="append", default=[], metavar="MODEL=FILE",
+                    help="another reference file (in validation/reference/) for a model")
     args = ap.parse_args()
     if args.replot:
         plot(json.load(open(args.json)), args.png)
@@ -202,11 +250,20 @@ def main():
     doc = {"source": git, "hexfem": args.hexfem, "argv": sys.argv[1:], "models": {},
            "machine": "2 cores shared with other agents' builds and runs; runs one at a time",
            "started": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())}
+    refs = {}
+    for item in args.reference:
+        model, _, path = item.partition("=")
+        if model not in MODELS or not path:
+            ap.error(f"--reference {item!r}: want MODEL=FILE with MODEL in {', '.join(MODELS)}")
+        refs[model] = path
     md = []
     for name in args.models.split(","):
-        spec = MODELS[name]
+        spec = dict(MODELS[name])
+        spec["reference"] = refs.get(name, spec["reference"])
         ref = json.load(open(os.path.join(HERE, "reference", spec["reference"])))
-        m = {"step": spec["step"], "fix": spec["fix"], "reference": spec["reference"],
+        m = {"step": spec["step"], "fix": "free-free" if spec.get("free") else spec["fix"],
+             **({k: spec[k] for k in ("clamp_face", "clamp_fraction") if k in spec}),
+             "reference": spec["reference"],
              "reference_hz": ref["reference_hz"],
              "reference_uncertainty_rel": ref["reference_uncertainty_rel"], "runs": {}}
         work = os.path.join(out, name)

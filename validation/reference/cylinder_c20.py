@@ -7,9 +7,74 @@ steel). Richardson over N = 6, 8, 12 gives f1 = f2 = 5182.13 Hz (the chain's cyl
 
   /usr/bin/python3 validation/reference/cylinder_c20.py N M NY Q NAME [OUTDIR]
   e.g. 6 3 12 2 g_6; 8 4 16 2 g_8; 12 6 24 2 g_12   (core divisions, ring, axial, grading)
+  /usr/bin/python3 validation/reference/cylinder_c20.py summarize OUT.json OUTDIR g_6 g_8 g_12
+      writes OUT.json (validation/reference/cylinder_c20.json) from those runs
 """
 import numpy as np, sys, subprocess, os, time, json
 R=6.752432; L=42.5; CX=-67.75; CZ=-267.5; Y0=177.5
+
+
+def mode_kinds(dat):
+    """bending / torsion / axial per mode from ccx's effective modal mass (axis y): no
+    translational mass -> torsion about y, mostly y -> axial, else bending."""
+    lines = open(dat).read().split('\n')
+    i = next(k for k, l in enumerate(lines) if 'E F F E C T I V E   M O D A L   M A S S' in l)
+    rows = []
+    for l in lines[i + 4:]:
+        p = l.split()
+        if not p or not p[0].isdigit():
+            break
+        rows.append([float(v) for v in p[1:4]])
+    t = np.array(rows)
+    scale = t.max()
+    return ['torsion' if r.max() < 1e-6 * scale else 'axial' if r.argmax() == 1 else 'bending'
+            for r in t]
+
+
+def summarize(out, rundir, names):
+    """cylinder_c20.json (the schema of cylinder.json) from the runs NAME.json in rundir:
+    Richardson over the two finest grids with reference_chain.summarize (observed order where
+    1 <= p <= 6, 1.5 below an observed 1, else 4; uncertainty: the spread to the finest run and
+    to p = 1.5 and 4). h = L / NY, the nominal axial size (all divisions scale together)."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import reference_chain as chain
+    runs = []
+    for nm in names:
+        r = json.load(open(os.path.join(rundir, nm + '.json')))
+        log = open(os.path.join(rundir, nm + '.log')).read().split()
+        secs = float(log[log.index('Time:') + 1]) if 'Time:' in log else None
+        runs.append({'h': L / r['ny'], 'grid': {k: r[k] for k in ('n', 'm', 'ny', 'q')},
+                     'elements': r['ny'] * (r['n'] ** 2 + 4 * r['n'] * r['m']), 'dofs': r['dof'],
+                     'frequencies_hz': r['f'], 'modes': mode_kinds(os.path.join(rundir, nm + '.dat')),
+                     'seconds_ccx': secs, 'seconds_total': secs,
+                     'command': 'validation/reference/cylinder_c20.py %d %d %d %g %s'
+                                % (r['n'], r['m'], r['ny'], r['q'], nm)})
+    doc = {'what': 'cylinder.stp (shared models; R 6.752432, L 42.5 along y), steel, clamped on the '
+                   'end face y = 177.5: structured O-grid of C3D20 graded towards the clamp and '
+                   'the surface (cylinder_c20.py), Richardson over the two finest grids',
+           'command': 'validation/reference/cylinder_c20.py summarize ' + ' '.join([out, rundir] + names),
+           'geometry': '/work/shared/models/cylinder.stp (rebuilt analytically: exact circle)',
+           'units': 'mm, N, t (tonne), s: E in MPa, density in t/mm^3, frequencies in Hz',
+           'material': {'E_MPa': 210000.0, 'nu': 0.3, 'density_t_per_mm3': 7.85e-9},
+           'boundary': 'all nodes with y = 177.5 (= min y) fixed in x, y, z',
+           'element': 'CalculiX C3D20 (full integration), core block + 4 ring blocks, mid-edge '
+                      'nodes on the exact circle; h = L / NY (nominal axial size)',
+           'versions': chain.tool_versions(), 'runs': runs}
+    doc = chain.summarize(doc, nref=6)
+    kinds = [r['modes'] for r in doc['runs']]
+    if any(k != kinds[0] for k in kinds):
+        sys.exit('mode order differs between grids: %s' % kinds)
+    doc['reference_modes'] = kinds[0]
+    with open(out, 'w') as f:
+        json.dump(doc, f, indent=2)
+        f.write('\n')
+    print('modes:', ', '.join(kinds[0]))
+    print('wrote', out)
+
+
+if len(sys.argv) >= 5 and sys.argv[1] == 'summarize':
+    summarize(sys.argv[2], sys.argv[3], sys.argv[4:])
+    sys.exit(0)
 n,m,ny,q=int(sys.argv[1]),int(sys.argv[2]),int(sys.argv[3]),float(sys.argv[4])
 name=sys.argv[5]; a=0.45*R
 def grade(k,N,q): return 1-(1-k/N)**q   # clusters toward 1
@@ -77,4 +142,4 @@ for i,l in enumerate(txt):
         for ll in txt[i+6:i+12]: fr.append(float(ll.split()[3]))
         break
 print(name,'ccx %.1f s'%(time.time()-t),' '.join('%.3f'%x for x in fr))
-json.dump(dict(n=n,m=m,ny=ny,q=q,dof=3*(len(X)-len(fix)),f=fr),open(name+'.json','w'))
+json.dump(dict(n=n,m=m,ny=ny,q=q,dof=3*(len(X)-len(fix)),elements=len(els),f=fr),open(name+'.json','w'))
