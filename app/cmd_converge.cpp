@@ -36,6 +36,7 @@ int run(const ConvergeArgs& a) {
   if (a.modal.fix.empty())
     throw Error("--fix is required for a convergence study (e.g. --fix face:8)");
   const ModalOptions modal = modal_options_from(a.modal);
+  check_hex8_for_order(a.modal, a.modal.order == 2);
   check_input_file(a.file);
   if (!a.output.empty()) check_output_folder("-o", a.output);
 

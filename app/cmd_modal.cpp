@@ -94,6 +94,8 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
   if (!fix.empty() && a.free) throw Error("--free and --fix exclude each other");
   ModalOptions opt = modal_options_from(a.modal);
   check_input_file(a.mesh);
+  const bool order_given = a.modal.order_given && a.modal.order_given->count() > 0;
+  check_hex8_for_order(a.modal, a.modal.order == 2 && (cad_input || order_given));
   if (cad_input) {
     check_finite("--h", a.h);
     if (!(a.h > 0)) throw Error("a CAD input needs a mesh size: --h > 0 (mm)");
@@ -142,7 +144,8 @@ int run(const Args& a) {
                  mesh_write_options(mesh, a.mesh_out, false, &part.mesh_report.warnings));
   } else {
     mesh = read_mesh(a.mesh);
-    if (a.modal.order == 2 && mesh.order == 1)
+    const bool order_given = a.modal.order_given && a.modal.order_given->count() > 0;
+    if (order_given && a.modal.order == 2 && mesh.order == 1)
       part.order2 = raise_to_order2(mesh, nullptr);  // no geometry: straight edges
     r = solve_modal(mesh, opt);
   }

@@ -18,12 +18,13 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
   o.nu_given = sub.add_option("--nu", o.nu, "Poisson's ratio, overrides the material's");
   o.rho_given = sub.add_option("--rho", o.rho, "density [kg/m^3], overrides the material's");
   sub.add_option("--modes", o.modes, "number of modes (default " + std::to_string(o.modes) + ")");
-  sub.add_option("--hex8", o.hex8,
-                 "hex formulation: incompatible (default, bending-accurate) or full "
-                 "(= CalculiX C3D8)");
-  sub.add_option("--order", o.order,
-                 "element order: 1 (hex8, wedge6, pyramid5, tet4; default) or 2 (hex20, wedge15, "
-                 "pyramid13, tet10; boundary nodes on the CAD geometry)");
+  o.hex8_given = sub.add_option("--hex8", o.hex8,
+                                "hex formulation: incompatible (default, bending-accurate) or full "
+                                "(= CalculiX C3D8)");
+  o.order_given = sub.add_option(
+      "--order", o.order,
+      "element order: 1 (hex8, wedge6, pyramid5, tet4) or 2 (hex20, wedge15, pyramid13, tet10; "
+      "boundary nodes on the CAD geometry). Default: 2 for a CAD part, a mesh file's own order");
   sub.add_option("--solver", o.solver,
                  "direct (CHOLMOD), iterative (LOBPCG + GAMG; also under mpirun) or auto "
                  "(default: by DOF count and the estimated factor memory)");
@@ -56,6 +57,13 @@ ModalOptions modal_options_from(const ModalCliOptions& o) {
   opt.incompatible_hex = incompatible_hex_from_option(o.hex8);
   opt.solver = solver_choice_from_option(o.solver);
   return opt;
+}
+
+void check_hex8_for_order(const ModalCliOptions& o, bool order2) {
+  if (order2 && o.hex8_given && o.hex8_given->count() > 0)
+    throw Error(
+        "--hex8 sets the order-1 hexahedron, but this solve is order 2 (the default for a "
+        "CAD part): add --order 1");
 }
 
 }  // namespace hexfem

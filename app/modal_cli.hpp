@@ -19,8 +19,11 @@ struct ModalCliOptions {
   bool force = false;
   bool conformal = false;            // --conformal: CAD input meshed with no NC face
   std::vector<std::string> size_at;  // --size-at, CAD input: local sizes (parse_size_at)
-  int order =
-      1;  // element order, 1 or 2  // CAD input: accept a mesh whose volume is far off the CAD's
+  // Element order: 2 by default for a CAD part (validation/order2.md section 4: it reaches an
+  // accurate frequency sooner); a mesh file is solved at its own order unless --order is given.
+  int order = 2;
+  CLI::Option* order_given = nullptr;
+  CLI::Option* hex8_given = nullptr;
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;
 };
 
@@ -31,5 +34,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o);
 // Checks every value (material and its overrides finite and physical, --modes >= 1, --hex8, the
 // syntax of each --fix) and returns the solver's options (length_scale left at 1).
 ModalOptions modal_options_from(const ModalCliOptions& o);
+
+// --hex8 chooses the order-1 hexahedron; given for an order-2 solve it would be ignored in
+// silence, so it is an error naming --order 1. Throws hexfem::Error.
+void check_hex8_for_order(const ModalCliOptions& o, bool order2);
 
 }  // namespace hexfem

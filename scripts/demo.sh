@@ -7,8 +7,8 @@ mkdir -p "$build/demo"
 echo "== hexfem info models/steel_part.step"
 "$build/app/hexfem" info models/steel_part.step
 echo
-echo "== hexfem modal models/steel_part.step --h 1 --fix face:8 (steel, clamped at x = 0)"
-"$build/app/hexfem" modal models/steel_part.step --h 1 --fix face:8 --modes 6 \
+echo "== hexfem modal models/steel_part.step --h 2 --fix face:8 (steel, clamped at x = 0; order 2)"
+"$build/app/hexfem" modal models/steel_part.step --h 2 --fix face:8 --modes 6 \
   --mesh-out "$build/demo/steel_part.msh" --modes-out "$build/demo/steel_part_modes.vtu"
 echo
 echo "Independent reference (Gmsh tet10 + CalculiX C3D10, Richardson; validation/reference/):"

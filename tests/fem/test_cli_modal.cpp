@@ -72,6 +72,7 @@ TEST(ModalCli, JsonAndUnitScaling) {
   ASSERT_EQ(mm.code, 0) << mm.out;
   const auto j = nlohmann::json::parse(mm.out);
   const double f_mm = j["modes"][0]["frequency_hz"];
+  EXPECT_EQ(j["order"], 1);  // a mesh file is solved at its own order unless --order is given
   EXPECT_NEAR(j["mass_kg"].get<double>(), 7850 * 1e-5, 1e-12);
   // The same file read as metres: a 100 m beam, frequencies 1000x lower, and a warning.
   const CliRun si = hexfem("modal " + beam_msh() + " --fix \"x<0.001\" --modes 2 --json");

@@ -76,6 +76,26 @@ TEST(Order2Modal, CylinderIsAnUpperBoundOnceUntiedFacesAreConformal) {
   }
 }
 
+// Order 2 is the default for a CAD part (validation/order2.md section 4); --order 1 still gives
+// the paper's elements, and --hex8 without --order 1 is refused rather than ignored.
+TEST(Order2Modal, OrderTwoIsTheDefaultForACadPart) {
+  const std::string part =
+      std::string(HEXFEM_SOURCE_DIR) + "/models/steel_part.step --h 4 --fix face:8 --modes 2 ";
+  int code = 0;
+  const std::string two = run("modal " + part + "--json", &code);
+  ASSERT_EQ(code, 0) << two;
+  EXPECT_EQ(nlohmann::json::parse(two.substr(two.find('{')))["order"], 2);
+  const std::string one = run("modal " + part + "--order 1 --hex8 full --json", &code);
+  ASSERT_EQ(code, 0) << one;
+  EXPECT_EQ(nlohmann::json::parse(one.substr(one.find('{')))["order"], 1);
+  const std::string refused = run("modal " + part + "--hex8 full", &code);
+  EXPECT_NE(code, 0);
+  EXPECT_NE(refused.find("add --order 1"), std::string::npos) << refused;
+  const std::string study = run("converge " + part + "--hex8 full", &code);
+  EXPECT_NE(code, 0);
+  EXPECT_NE(study.find("add --order 1"), std::string::npos) << study;
+}
+
 TEST(Order2Modal, OrderThreeIsAOneLineError) {
   int code = 0;
   const std::string out = run("modal " + std::string(HEXFEM_SOURCE_DIR) +
