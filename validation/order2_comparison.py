@@ -40,12 +40,12 @@ MODELS = {
     "steel": {"step": os.path.join(ROOT, "models", "steel_part.step"), "fix": "face:8",
               "axis": "x", "reference": "steel_part.json",
               "order1": [2, 1.4142136, 1, 0.7071068], "order2": [4, 2.8284271, 2, 1.4142136],
-              "tet10": [4, 3.2, 2.5, 2]},
+              "tet10": [4, 3.2, 2.5, 2, 1.6]},
     # the C3D20 O-grid reference (order2.md section 5); --reference cylinder=cylinder.json for
     # the chain's own
     "cylinder": {"step": os.path.join(SHARED, "cylinder.stp"), "fix": "y<177.501", "axis": "y",
                  "reference": "cylinder_c20.json", "order1": [2, 1.4142136, 1, 0.7071068],
-                 "order2": [4, 2.8284271, 2, 1.4142136], "tet10": [4, 3.2, 2.5, 2]},
+                 "order2": [4, 2.8284271, 2, 1.4142136], "tet10": [4, 3.2, 2.5, 2, 1.6]},
     "cone": {"step": os.path.join(SHARED, "Cone_1.brep"), "fix": "z<0.001", "axis": "z",
              "reference": "cone.json", "order1": [20, 14.142136, 10, 7.0710678],
              "order2": [40, 28.284271, 20, 14.142136], "tet10": [40, 28, 20, 16]},
@@ -53,12 +53,12 @@ MODELS = {
     "sphere": {"step": os.path.join(SHARED, "sphere.stp"), "free": True,
                "reference": "sphere.json", "order1": [1.4142136, 1, 0.7071068, 0.5, 0.4],
                # at h >= 3.5 hexfem meshes again with a curvature bound (the same ~11k DOF)
-               "order2": [3, 2.5, 2, 1.5, 1], "tet10": [5, 4, 3, 2.5, 2]},
+               "order2": [3, 2.5, 2, 1.5, 1], "tet10": [5, 4, 3, 2.5, 2, 1.5]},
     # the cylinder with the clamp face (CAD face 3, y = 177.5) graded in both chains
     "cylinder_graded": {"step": os.path.join(SHARED, "cylinder.stp"), "fix": "y<177.501",
                         "axis": "y", "clamp_face": 3, "clamp_fraction": 0.5,
                         "reference": "cylinder_c20.json", "order1": [2, 1.4142136, 1, 0.7071068],
-                        "order2": [4, 2.8284271, 2, 1.4142136], "tet10": [4, 3.2, 2.5, 2]},
+                        "order2": [4, 2.8284271, 2, 1.4142136], "tet10": [4, 3.2, 2.5, 2, 1.6]},
 }
 NF = 4  # f1..f4
 NRIGID = 6  # rigid-body modes of a free-free model, dropped
