@@ -152,6 +152,14 @@ int run(const Args& a) {
   const Units shown = cad_input ? Units{"mm", 1e-3} : units;
   std::vector<std::string> warnings =
       cad_input ? part.mesh_report.warnings : unit_warnings(mesh, units);
+  if (a.free) {
+    std::int32_t parts = 0;
+    connected_parts(mesh, NodeTies{}, &parts);
+    if (parts > 1)
+      warnings.push_back("the mesh has " + std::to_string(parts) +
+                         " unconnected parts: the first " + std::to_string(6 * parts) +
+                         " modes are rigid-body modes (six per part)");
+  }
   std::vector<std::size_t> fixed_nodes;
   for (const std::string& spec : a.modal.fix)
     fixed_nodes.push_back(select_fixed_nodes(mesh, spec).nodes.size());

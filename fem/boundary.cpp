@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -295,6 +296,105 @@ UnheldRigidMotions unheld_rigid_motions(const MixedMesh& mesh,
 
 int count_unheld_rigid_motions(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed) {
   return static_cast<int>(unheld_rigid_motions(mesh, fixed).coefficients.cols());
+}
+
+std::vector<std::int32_t> connected_parts(const MixedMesh& mesh, const NodeTies& ties,
+                                          std::int32_t* count) {
+  const std::size_t nn = mesh.nodes.size();
+  std::vector<std::int32_t> parent(nn);
+  for (std::size_t v = 0; v < nn; ++v) parent[v] = static_cast<std::int32_t>(v);
+  auto find = [&parent](std::int32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  auto join = [&](std::int32_t a, std::int32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smallest id is the root
+  };
+  std::vector<std::uint8_t> used(nn, 0);
+  std::int32_t ids[64];
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+    const int n = mesh.element_nodes(c, ids);
+    for (int i = 0; i < n; ++i) {
+      used[ids[i]] = 1;
+      join(ids[0], ids[i]);
+    }
+  }
+  for (std::size_t v = 0; v < ties.slot.size(); ++v)
+    if (ties.slot[v] >= 0)
+      for (int i = 0; i < kTieMasters; ++i)
+        if (ties.weight[kTieMasters * ties.slot[v] + i] != 0)
+          join(static_cast<std::int32_t>(v), ties.master[kTieMasters * ties.slot[v] + i]);
+  // Numbered in the order of their smallest node, so the numbering is deterministic.
+  std::vector<std::int32_t> part(nn, -1);
+  std::int32_t parts = 0;
+  for (std::size_t v = 0; v < nn; ++v) {
+    if (!used[v]) continue;
+    const std::int32_t r = find(static_cast<std::int32_t>(v));
+    if (part[r] < 0) part[r] = parts++;
+    part[v] = part[r];
+  }
+  if (count) *count = parts;
+  return part;
+}
+
+void check_every_part_is_held(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed) {
+  if (std::none_of(fixed.begin(), fixed.end(), [](std::uint8_t f) { return f != 0; })) return;
+  std::int32_t count = 0;
+  const std::vector<std::int32_t> part = connected_parts(mesh, NodeTies{}, &count);
+  if (count < 2) return;
+  std::vector<std::uint8_t> held(static_cast<std::size_t>(count), 0);
+  std::vector<long> nodes(static_cast<std::size_t>(count), 0);
+  std::vector<Vec3> first(static_cast<std::size_t>(count));
+  for (std::size_t v = 0; v < part.size(); ++v) {
+    if (part[v] < 0) continue;
+    const auto p = static_cast<std::size_t>(part[v]);
+    if (nodes[p]++ == 0) first[p] = mesh.nodes[v];
+    for (int a = 0; a < 3; ++a) held[p] = held[p] || fixed[3 * v + a];
+  }
+  for (std::size_t p = 0; p < held.size(); ++p)
+    if (!held[p]) {
+      char buf[320];
+      std::snprintf(buf, sizeof buf,
+                    "the fixed set does not touch part %zu of the mesh's %d unconnected parts (%ld "
+                    "nodes, one at (%g, %g, %g)): it is free to move; fix it too, or join the "
+                    "solids into one",
+                    p + 1, count, nodes[p], first[p][0], first[p][1], first[p][2]);
+      throw Error(buf);
+    }
+}
+
+Eigen::MatrixXd rigid_motions_of_parts(const MixedMesh& mesh, const DofMap& dofs) {
+  if (dofs.num_fixed > 0 || dofs.num_free == 0) return {};
+  const std::size_t nn = mesh.nodes.size();
+  std::int32_t count = 0;
+  const std::vector<std::int32_t> part = connected_parts(mesh, dofs.ties, &count);
+  const auto np = static_cast<std::size_t>(count);
+  std::vector<Eigen::Vector3d> lo(np, Eigen::Vector3d::Constant(1e300)),
+      hi(np, Eigen::Vector3d::Constant(-1e300));
+  for (std::size_t v = 0; v < nn; ++v)
+    if (part[v] >= 0) {
+      const Eigen::Vector3d x(mesh.nodes[v][0], mesh.nodes[v][1], mesh.nodes[v][2]);
+      lo[part[v]] = lo[part[v]].cwiseMin(x);
+      hi[part[v]] = hi[part[v]].cwiseMax(x);
+    }
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(dofs.num_free, 6 * static_cast<long>(np));
+  for (std::size_t v = 0; v < nn; ++v) {
+    const std::int32_t p = part[v];
+    if (p < 0) continue;
+    const Eigen::Vector3d centre = 0.5 * (lo[p] + hi[p]);
+    const double length = std::max((hi[p] - lo[p]).maxCoeff(), 1e-300);
+    const Eigen::Vector3d d =
+        (Eigen::Vector3d(mesh.nodes[v][0], mesh.nodes[v][1], mesh.nodes[v][2]) - centre) / length;
+    for (int b = 0; b < 3; ++b) {
+      const std::int32_t row = dofs.dof[3 * v + b];
+      if (row < 0) continue;
+      R(row, 6 * p + b) = 1;
+      for (int k = 0; k < 3; ++k) R(row, 6 * p + 3 + k) = Eigen::Vector3d::Unit(k).cross(d)[b];
+    }
+  }
+  return R;
 }
 
 }  // namespace hexfem

@@ -81,6 +81,24 @@ struct UnheldRigidMotions {
 UnheldRigidMotions unheld_rigid_motions(const MixedMesh& mesh,
                                         const std::vector<std::uint8_t>& fixed);
 
+// The connected part of each node (-1 for a node of no cell): cells join their nodes, NC-face
+// ties join a tied node to its masters. Parts are numbered by their smallest node; `count` gets
+// how many there are.
+std::vector<std::int32_t> connected_parts(const MixedMesh& mesh, const NodeTies& ties,
+                                          std::int32_t* count = nullptr);
+
+// With some DOF fixed, every connected part must have one: a part the fixed set does not touch
+// (a second solid of an assembly meshed apart) would come out as six zero modes. Throws
+// hexfem::Error naming the first such part.
+void check_every_part_is_held(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed);
+
+// The six rigid-body motions of each connected part of a structure with no fixed DOF (parts
+// joined by cells or by NC-face ties), as columns over the free DOFs: exact zero-energy modes.
+// Empty when any DOF is fixed. The direct eigensolver deflates them (modal_solver.cpp): a
+// single-vector Lanczos finds a six-fold (or 6p-fold) zero eigenvalue only through round-off,
+// and missed one of them in some runs.
+Eigen::MatrixXd rigid_motions_of_parts(const MixedMesh& mesh, const DofMap& dofs);
+
 // Full nodal vector (3 * nodes, zeros at eliminated DOFs, tied nodes from their masters) from a
 // vector of free DOFs.
 Eigen::VectorXd expand_to_nodes(const DofMap& map, const Eigen::VectorXd& reduced);

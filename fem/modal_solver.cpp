@@ -3,6 +3,7 @@
 #include <Spectra/MatOp/SparseSymMatProd.h>
 #include <Spectra/SymGEigsShiftSolver.h>
 
+#include <Eigen/Eigenvalues>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -76,6 +77,18 @@ class ShiftInvertOp {
     Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
     Eigen::Map<Eigen::VectorXd> y(y_out, rows());
     y = solver_.solve(x);
+    project(y_out);
+  }
+
+  // Removes the M-orthonormal columns of Z from every result: y -= Z (Zᵀ M y).
+  void set_deflation(const Eigen::MatrixXd* Z) {
+    Z_ = Z;
+  }
+  void project(double* v) const {
+    if (!Z_ || Z_->cols() == 0) return;
+    Eigen::Map<Eigen::VectorXd> y(v, rows());
+    const Eigen::VectorXd my = M_.selfadjointView<Eigen::Lower>() * y;
+    y -= *Z_ * (Z_->transpose() * my);
   }
 
   long factor_nnz() const {
@@ -92,6 +105,7 @@ class ShiftInvertOp {
   const SparseMatrix& K_;
   const SparseMatrix& M_;
   SparseMatrix A_;
+  const Eigen::MatrixXd* Z_ = nullptr;
 #ifdef HEXFEM_HAVE_CHOLMOD
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> solver_;
 #else
@@ -233,28 +247,64 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
   EigenResult res;
   res.sigma = -options.shift_fraction * lambda_scale;
 
+  // Known zero-energy modes first: Ritz pairs of (K, M) on their span, M-orthonormal.
+  Eigen::MatrixXd Z;
+  Eigen::VectorXd zero_values;
+  const long nz = std::min<long>(options.deflation.cols(), nev);
+  if (options.deflation.cols() > 0) {
+    const Eigen::MatrixXd& R = options.deflation;
+    const Eigen::MatrixXd KR = K.selfadjointView<Eigen::Lower>() * R,
+                          MR = M.selfadjointView<Eigen::Lower>() * R;
+    const Eigen::MatrixXd A = R.transpose() * KR, B = R.transpose() * MR;
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(0.5 * (A + A.transpose()),
+                                                                        0.5 * (B + B.transpose()));
+    if (ges.info() != Eigen::Success)
+      throw Error("the rigid-body modes are not independent (a part with a single node?)");
+    Z = R * ges.eigenvectors();
+    zero_values = ges.eigenvalues();
+  }
+  const long nl = nev - nz;  // modes left to the Lanczos iteration
+
   ShiftInvertOp op(K, M, options.preordered);
+  op.set_deflation(&Z);
   using BOp = Spectra::SparseSymMatProd<double, Eigen::Lower, Eigen::ColMajor, long>;
   BOp bop(M);
-  const long ncv =
-      options.ncv > nev ? std::min<long>(n, options.ncv) : std::min(n, std::max(2 * nev + 1, 20L));
+  const long nfree = n - Z.cols();  // the dimension left after the deflation
+  const long ncv = options.ncv > nl ? std::min<long>(nfree, options.ncv)
+                                    : std::min(nfree, std::max(2 * nl + 1, 20L));
   const auto t0 = std::chrono::steady_clock::now();
-  Spectra::SymGEigsShiftSolver<ShiftInvertOp, BOp, Spectra::GEigsMode::ShiftInvert> eigs(
-      op, bop, nev, ncv, res.sigma);
-  eigs.init();
-  eigs.compute(Spectra::SortRule::LargestMagn, 1000, options.tolerance,
-               Spectra::SortRule::SmallestAlge);
-  if (eigs.info() != Spectra::CompInfo::Successful)
-    throw Error("the eigenvalue iteration did not converge (" + std::to_string(nev) + " modes, " +
-                std::to_string(n) + " DOFs)");
+  Eigen::VectorXd lambda = zero_values.head(nz);
+  Eigen::MatrixXd phi = Z.leftCols(nz);
+  if (nl > 0) {
+    if (nl >= nfree)
+      throw Error("requested " + std::to_string(nev) + " modes but the model has only " +
+                  std::to_string(n) + " free DOFs and " + std::to_string(Z.cols()) +
+                  " rigid-body modes");
+    Spectra::SymGEigsShiftSolver<ShiftInvertOp, BOp, Spectra::GEigsMode::ShiftInvert> eigs(
+        op, bop, nl, ncv, res.sigma);
+    // The same start as Spectra's default (a fixed pseudo-random vector), without its rigid part.
+    Eigen::VectorXd v0(n);
+    for (long i = 0; i < n; ++i) v0[i] = std::sin(12.9898 * static_cast<double>(i + 1)) + 0.5;
+    op.project(v0.data());
+    eigs.init(v0.data());
+    eigs.compute(Spectra::SortRule::LargestMagn, 1000, options.tolerance,
+                 Spectra::SortRule::SmallestAlge);
+    if (eigs.info() != Spectra::CompInfo::Successful)
+      throw Error("the eigenvalue iteration did not converge (" + std::to_string(nev) + " modes, " +
+                  std::to_string(n) + " DOFs)");
+    res.iterations = eigs.num_iterations();
+    res.operations = eigs.num_operations();
+    lambda.conservativeResize(nev);
+    lambda.tail(nl) = eigs.eigenvalues();
+    phi.conservativeResize(n, nev);
+    phi.rightCols(nl) = eigs.eigenvectors();
+  }
   res.factor_seconds = op.factor_seconds();
   res.solve_seconds = seconds_since(t0) - res.factor_seconds;
   res.factor_nnz = op.factor_nnz();
   res.factor_flops = op.factor_flops();
-  res.iterations = eigs.num_iterations();
-  res.operations = eigs.num_operations();
-  res.eigenvalues = eigs.eigenvalues();
-  res.vectors = eigs.eigenvectors();
+  res.eigenvalues = std::move(lambda);
+  res.vectors = std::move(phi);
   // Residuals against the top of the computed spectrum, so rigid-body modes (λ ≈ 0, Kφ ≈ 0) are
   // judged by how small Kφ is, not by a ratio of two round-off quantities.
   const double scale = std::max(std::abs(res.eigenvalues.maxCoeff()), std::abs(res.sigma));
@@ -279,6 +329,7 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
 
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<std::uint8_t> fixed = select_fixed_dofs(mesh, options.fix);
+  check_every_part_is_held(mesh, fixed);
   SolverChoice path = options.solver;
   std::string reason = path == SolverChoice::Direct ? "--solver direct" : "--solver iterative";
   if (path != SolverChoice::Direct) {
@@ -330,6 +381,7 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
   EigenOptions eo = options.eigen;
   eo.num_modes = options.num_modes;
   eo.preordered = !order.empty();
+  eo.deflation = rigid_motions_of_parts(mesh, dofs);
   out.eigen = solve_eigen(sys.K, sys.M, eo);
   out.eigen.setup_seconds = out.eigen.factor_seconds;
   out.eigen.peak_memory_bytes = peak_rss_bytes();

@@ -25,6 +25,9 @@ struct EigenOptions {
   bool preordered = false;
   // Lanczos basis size; 0 = automatic (see solve_eigen).
   int ncv = 0;
+  // Known zero-energy modes (columns over the DOFs, e.g. rigid_motions_of_parts): returned first
+  // as Ritz pairs of their span, and projected out of the Lanczos iteration.
+  Eigen::MatrixXd deflation;
 };
 
 struct EigenResult {

@@ -56,6 +56,42 @@ TEST(Modal, FreeFreeCubeHasSixRigidModes) {
   }
 }
 
+// Two unconnected boxes, free: twelve rigid-body modes (six per part, deflated by the direct
+// path), then each elastic mode of one box twice, equal to the box solved alone. Clamping one
+// box only is refused by name.
+TEST(Modal, TwoUnconnectedPartsHaveTwelveRigidModes) {
+  const MixedMesh one = make_box_mesh({1, 0.5, 0.4}, 4, 2, 2, CellKind::Hex8);
+  MixedMesh two = one;
+  const auto n0 = static_cast<std::int32_t>(one.nodes.size());
+  for (const Vec3& x : one.nodes) two.nodes.push_back({x[0] + 3, x[1], x[2]});
+  for (std::size_t c = 0; c < one.num_cells(); ++c) {
+    two.cell_kind.push_back(one.cell_kind[c]);
+    for (int i = 0; i < kMaxCellNodes; ++i) {
+      const std::int32_t v = one.cell_nodes[kMaxCellNodes * c + i];
+      two.cell_nodes.push_back(v < 0 ? v : v + n0);
+    }
+    two.cell_solid.push_back(2);
+    two.cell_physical.push_back(0);
+  }
+  const ModalResult alone = solve_modal(one, steel(8));
+  const ModalResult both = solve_modal(two, steel(16));
+  ASSERT_EQ(both.frequencies.size(), 16u);
+  const double f7 = alone.frequencies[6];
+  for (int i = 0; i < 12; ++i) EXPECT_LT(std::abs(both.frequencies[i]), 1e-6 * f7) << i + 1;
+  EXPECT_NEAR(both.frequencies[12], f7, 1e-9 * f7);
+  EXPECT_NEAR(both.frequencies[13], f7, 1e-9 * f7);
+  EXPECT_NEAR(both.frequencies[14], alone.frequencies[7], 1e-9 * f7);
+  EXPECT_NEAR(both.frequencies[15], alone.frequencies[7], 1e-9 * f7);
+  try {
+    solve_modal(two, steel(4, {"x<0.001"}));
+    ADD_FAILURE() << "a free part was not refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("does not touch part 2 of the mesh's 2 unconnected parts"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Modal, CantileverHexMatchesCalculixC3D8) {
   // 100 x 10 x 10 mm steel, clamped at x = 0, 40 x 4 x 4 hex8: same element as C3D8.
   const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
