@@ -189,9 +189,8 @@ double available_memory_bytes() {
 // 16.5 GB measured at 94.5k / 305k / 1.05M DOFs); nested dissection on compact 3D meshes
 // grows as n^(4/3) too. On one process the two paths take the same time at 94.5k DOFs (8.7 s),
 // where the iterative one needs 2.4x less memory, and the iterative one is 1.5x faster at 305k
-// and 3.4x at 1.05M (solver.md §10, session 13); 100k sits at the break-even. At
-// order 2 the direct path stays the faster one while its factor fits (steel part, 155k DOFs:
-// 17.8 s direct, 111 s iterative; order2.md), so only the memory decides there.
+// and 3.4x at 1.05M (solver.md §10, session 13); 100k sits at the break-even. At order 2 the
+// break-even is near 300k (kAutoDirectMaxDofsOrder2; order2.md section 4).
 SolverChoice pick_solver(long free_dofs, int order, std::string& reason) {
   const double factor_bytes = 157.0 * std::pow(static_cast<double>(free_dofs), 4.0 / 3.0);
   const double available = available_memory_bytes();
@@ -203,14 +202,13 @@ SolverChoice pick_solver(long free_dofs, int order, std::string& reason) {
     return SolverChoice::Iterative;
   }
   const bool fits = available <= 0 || factor_bytes < 0.5 * available;
-  const bool small = free_dofs <= kAutoDirectMaxDofs || order == 2;
+  const long limit = order == 2 ? kAutoDirectMaxDofsOrder2 : kAutoDirectMaxDofs;
+  const bool small = free_dofs <= limit;
   std::snprintf(buf, sizeof buf,
-                "auto: %s (%ld DOFs %s %ld%s; estimated factor %.2g GB %s half of the %.3g GB "
-                "available)",
-                small && fits ? "direct" : "iterative", free_dofs,
-                free_dofs <= kAutoDirectMaxDofs ? "<=" : ">", kAutoDirectMaxDofs,
-                order == 2 ? ", no DOF limit at order 2" : "", factor_bytes / 1e9,
-                fits ? "<" : ">=", available / 1e9);
+                "auto: %s (%ld DOFs %s %ld at order %d; estimated factor %.2g GB %s half of the "
+                "%.3g GB available)",
+                small && fits ? "direct" : "iterative", free_dofs, small ? "<=" : ">", limit, order,
+                factor_bytes / 1e9, fits ? "<" : ">=", available / 1e9);
   reason = buf;
   return small && fits ? SolverChoice::Direct : SolverChoice::Iterative;
 }
