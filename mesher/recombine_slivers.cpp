@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/parallel_sort.hpp"
 
 namespace hexfem {
 
@@ -20,21 +21,6 @@ std::vector<KeyedTet> tets_by_corners(const TetTopology& topo,
 }
 
 namespace {
-
-// std::sort on two threads: each sorts one half, then the halves are merged. Equal elements are
-// indistinguishable here, so the result is std::sort's.
-template <class T>
-void sort_on_two_threads(std::vector<T>& v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-#pragma omp parallel sections
-  {
-#pragma omp section
-    std::sort(v.begin(), mid);
-#pragma omp section
-    std::sort(mid, v.end());
-  }
-  std::inplace_merge(v.begin(), mid, v.end());
-}
 
 // Where each element's quad faces start in a list of all of them (and the total, last).
 std::vector<std::size_t> quad_offsets(const std::vector<Candidate>& elements) {
@@ -62,7 +48,7 @@ std::vector<QuadKey> sorted_quad_keys(const std::vector<Candidate>& elements) {
     for (int f = 0; f < cf.count; ++f)
       if (cf.face[f].n == 4) keys[at++] = quad_key(e, f);
   }
-  sort_on_two_threads(keys);
+  parallel_sort(keys);
   return keys;
 }
 
