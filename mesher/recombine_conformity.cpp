@@ -28,39 +28,19 @@ bool quad_on_surface(const TetTopology& topo, const Candidate& e, int f) {
           topo.surface_triangle(q[1], q[2], q[3]) >= 0);
 }
 
-// across[6 * i + f] for every quad face f of every element i.
+// across[6 * i + f] for every quad face f of every element i (on all threads: each slot is
+// written by its own element).
 std::vector<Across> faces_across(const TetTopology& topo, const std::vector<Candidate>& elements) {
-  struct Owner {
-    QuadKey key;
-    std::int32_t element;
-    std::int8_t face;
-    bool operator<(const Owner& o) const {
-      for (int i = 0; i < 4; ++i)
-        if (key[i] != o.key[i]) return key[i] < o.key[i];
-      return element < o.element;
-    }
-  };
-  std::vector<Owner> owners;
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    const CellFaces cf = faces_of(elements[i].kind);
-    for (int f = 0; f < cf.count; ++f)
-      if (cf.face[f].n == 4)
-        owners.push_back(
-            {quad_key(elements[i], f), static_cast<std::int32_t>(i), static_cast<std::int8_t>(f)});
-  }
-  std::sort(owners.begin(), owners.end());
+  const QuadFaces quads(elements, topo.num_vertices());
   std::vector<Across> across(6 * elements.size());
-  for (std::size_t a = 0; a < owners.size();) {
-    std::size_t b = a + 1;
-    while (b < owners.size() && owners[b].key == owners[a].key) ++b;
-    if (b - a == 2) {
-      across[6 * owners[a].element + owners[a].face] = {owners[a + 1].element, owners[a + 1].face};
-      across[6 * owners[a + 1].element + owners[a + 1].face] = {owners[a].element, owners[a].face};
-    } else if (b - a == 1 && quad_on_surface(topo, elements[owners[a].element], owners[a].face)) {
-      across[6 * owners[a].element + owners[a].face].element = kSurface;
-    }
-    a = b;
-  }
+  parallel_for_quad_faces(elements, [&](std::size_t i, int f) {
+    const std::size_t own = 6 * i + f;
+    const std::int32_t other = quads.match(own);
+    if (other >= 0)
+      across[own] = {other / 6, static_cast<std::int8_t>(other % 6)};
+    else if (other == QuadFaces::kAlone && quad_on_surface(topo, elements[i], f))
+      across[own].element = kSurface;
+  });
   return across;
 }
 

@@ -326,8 +326,19 @@ QuadKey quad_corners(const Candidate& e, int local_face) {
 }
 
 QuadKey quad_key(const Candidate& e, int local_face) {
+  // Five compare-exchanges (a sorting network) instead of std::sort's loop: called for every
+  // quad face of every element, several times per stage.
   QuadKey k = quad_corners(e, local_face);
-  std::sort(k.begin(), k.end());
+  auto order = [&](int i, int j) {
+    const std::int32_t lo = std::min(k[i], k[j]), hi = std::max(k[i], k[j]);
+    k[i] = lo;
+    k[j] = hi;
+  };
+  order(0, 1);
+  order(2, 3);
+  order(0, 2);
+  order(1, 3);
+  order(1, 2);
   return k;
 }
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "mesher/mesh/parallel_sort.hpp"
+
 namespace hexfem {
 
 namespace {
@@ -53,27 +55,10 @@ std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindC
   auto& runs = r.runs;
   std::vector<Candidate> all;
   if (runs.size() == 2) {
-    // Two runs (two threads): each thread merges one half of the output, split where the first
-    // k merged elements end (binary search on the merge path).
+    // Two runs (two threads): merged on all threads.
     const std::vector<Candidate>&A = runs[0], &B = runs[1];
-    const std::size_t na = A.size(), nb = B.size(), k = (na + nb) / 2;
-    std::size_t lo = k > nb ? k - nb : 0, hi = std::min(k, na);
-    while (lo < hi) {
-      const std::size_t mid = (lo + hi) / 2;
-      if (A[mid] < B[k - mid - 1])
-        lo = mid + 1;
-      else
-        hi = mid;
-    }
-    const std::size_t i = lo, j = k - lo;
-    all.resize(na + nb);
-#pragma omp parallel sections
-    {
-#pragma omp section
-      std::merge(A.begin(), A.begin() + i, B.begin(), B.begin() + j, all.begin());
-#pragma omp section
-      std::merge(A.begin() + i, A.end(), B.begin() + j, B.end(), all.begin() + k);
-    }
+    all.resize(A.size() + B.size());
+    parallel_merge(A.data(), A.size(), B.data(), B.size(), all.data(), 2);
     return all;
   }
   RunMerger<Candidate> merger(r);

@@ -128,7 +128,7 @@ std::vector<Candidate> enumerate_pyramids(const RecombineState& state) {
   const std::vector<char>& used = state.used;
   const double min_quality = state.limits.min_pyramid_quality;
   // Quad faces used by two elements are conformal already.
-  const std::vector<QuadKey> quads = sorted_quad_keys(elements);
+  const QuadFaces quads(elements, topo.num_vertices());
   std::vector<Candidate> out;
   const auto& X = topo.mesh().nodes;
   const auto n = static_cast<std::ptrdiff_t>(elements.size());
@@ -143,7 +143,7 @@ std::vector<Candidate> enumerate_pyramids(const RecombineState& state) {
         const LocalFace& lf = cf.face[f];
         if (lf.n != 4) continue;
         const QuadKey q = quad_corners(e, f);
-        if (quad_shared(quads, quad_key(e, f))) continue;
+        if (quads.shared(6 * ei + f)) continue;
         // The two triangles of the face, split along the diagonal the element's tets use; past a
         // flat sliver on the face, along the other diagonal.
         std::array<std::int32_t, 3> t1, t2;

@@ -2,7 +2,12 @@
 
 #include <algorithm>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/parallel_sort.hpp"
 
 namespace hexfem {
 
@@ -19,143 +24,159 @@ std::vector<KeyedTet> tets_by_corners(const TetTopology& topo,
   return out;
 }
 
+void parallel_for_quad_faces(const std::vector<Candidate>& elements,
+                             const std::function<void(std::size_t, int)>& visit) {
+  const auto n = static_cast<std::ptrdiff_t>(elements.size());
+#pragma omp parallel for schedule(static, 1024)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const CellFaces& cf = faces_of(elements[i].kind);
+    for (int f = 0; f < cf.count; ++f)
+      if (cf.face[f].n == 4) visit(static_cast<std::size_t>(i), f);
+  }
+}
+
+QuadFaces::QuadFaces(const std::vector<Candidate>& elements, std::size_t num_vertices)
+    : off_(num_vertices + 1, 0), match_(6 * elements.size(), kAlone) {
+  // A counting sort by lowest corner, a pass to count and one to file, each thread over all
+  // elements but only for its range of vertices: the writes scatter over all faces, and each
+  // thread takes its share of them.
+  std::vector<std::int32_t> fill;
+#pragma omp parallel
+  {
+    int threads = 1, me = 0;
+#ifdef _OPENMP
+    threads = omp_get_num_threads();
+    me = omp_get_thread_num();
+#endif
+    const auto lo = static_cast<std::int32_t>(num_vertices * me / threads);
+    const auto hi = static_cast<std::int32_t>(num_vertices * (me + 1) / threads);
+    for (const Candidate& e : elements) {
+      const CellFaces cf = faces_of(e.kind);
+      for (int f = 0; f < cf.count; ++f) {
+        const LocalFace& lf = cf.face[f];
+        if (lf.n != 4) continue;
+        const std::int32_t m =
+            std::min({e.nodes[lf.v[0]], e.nodes[lf.v[1]], e.nodes[lf.v[2]], e.nodes[lf.v[3]]});
+        if (m >= lo && m < hi) ++off_[m + 1];
+      }
+    }
+#pragma omp barrier
+#pragma omp single
+    {
+      for (std::size_t v = 0; v < num_vertices; ++v) off_[v + 1] += off_[v];
+      face_.resize(off_.back());
+      fill.assign(off_.begin(), off_.end() - 1);
+    }
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+      const CellFaces cf = faces_of(elements[i].kind);
+      for (int f = 0; f < cf.count; ++f) {
+        if (cf.face[f].n != 4) continue;
+        const QuadKey k = quad_key(elements[i], f);
+        if (k[0] >= lo && k[0] < hi)
+          face_[fill[k[0]]++] = {{k[1], k[2], k[3]}, static_cast<std::int32_t>(6 * i + f)};
+      }
+    }
+#pragma omp barrier
+    // Faces with equal corners are in one vertex's list.
+#pragma omp for schedule(static, 4096)
+    for (std::int32_t v = 0; v < static_cast<std::int32_t>(num_vertices); ++v)
+      for (std::int32_t i = off_[v]; i < off_[v + 1]; ++i) {
+        int same = 0;
+        std::int32_t other = kAlone;
+        for (std::int32_t j = off_[v]; j < off_[v + 1]; ++j)
+          if (j != i && face_[j].v[0] == face_[i].v[0] && face_[j].v[1] == face_[i].v[1] &&
+              face_[j].v[2] == face_[i].v[2]) {
+            ++same;
+            other = face_[j].slot;
+          }
+        match_[face_[i].slot] = same == 0 ? kAlone : same == 1 ? other : kMany;
+      }
+  }
+}
+
+int QuadFaces::count(const QuadKey& k) const {
+  int n = 0;
+  for_each(k, [&](std::int32_t) { ++n; });
+  return n;
+}
+
 namespace {
 
-// std::sort on two threads: each sorts one half, then the halves are merged. Equal elements are
-// indistinguishable here, so the result is std::sort's.
-template <class T>
-void sort_on_two_threads(std::vector<T>& v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-#pragma omp parallel sections
-  {
-#pragma omp section
-    std::sort(v.begin(), mid);
-#pragma omp section
-    std::sort(mid, v.end());
+struct QuadKeyHash {
+  std::size_t operator()(const QuadKey& k) const {
+    std::uint64_t h = static_cast<std::uint32_t>(k[0]);
+    for (int i = 1; i < 4; ++i) h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k[i]);
+    return static_cast<std::size_t>(mix64(h));
   }
-  std::inplace_merge(v.begin(), mid, v.end());
-}
-
-// Where each element's quad faces start in a list of all of them (and the total, last).
-std::vector<std::size_t> quad_offsets(const std::vector<Candidate>& elements) {
-  std::vector<std::size_t> off(elements.size() + 1, 0);
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    const CellFaces cf = faces_of(elements[i].kind);
-    std::size_t n = 0;
-    for (int f = 0; f < cf.count; ++f) n += cf.face[f].n == 4;
-    off[i + 1] = off[i] + n;
-  }
-  return off;
-}
+};
 
 }  // namespace
-
-std::vector<QuadKey> sorted_quad_keys(const std::vector<Candidate>& elements) {
-  const std::vector<std::size_t> off = quad_offsets(elements);
-  std::vector<QuadKey> keys(off.back());
-  const auto n = static_cast<std::ptrdiff_t>(elements.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const Candidate& e = elements[i];
-    const CellFaces cf = faces_of(e.kind);
-    std::size_t at = off[i];
-    for (int f = 0; f < cf.count; ++f)
-      if (cf.face[f].n == 4) keys[at++] = quad_key(e, f);
-  }
-  sort_on_two_threads(keys);
-  return keys;
-}
-
-bool quad_shared(const std::vector<QuadKey>& keys, const QuadKey& k) {
-  const auto range = std::equal_range(keys.begin(), keys.end(), k);
-  return range.second - range.first >= 2;
-}
 
 std::size_t absorb_face_slivers(RecombineState& s, const std::vector<Candidate>& elements,
                                 SliverPolicy policy) {
   const TetTopology& topo = s.topo;
   std::vector<char>& used = s.used;
   const double flat_sj = s.limits.sliver_quality;
-  // The free tets on the four corners of a quad face, with the policy's test, on all threads:
-  // quad face i of the list (quad_offsets) -> its tet, -1 none, or -2 when it qualifies only if
-  // the face is shared. Marking them used is left to the serial pass below, in face order.
-  const std::vector<std::size_t> off = quad_offsets(elements);
-  std::vector<std::int32_t> hit(off.back(), -1);
-  const auto n = static_cast<std::ptrdiff_t>(elements.size());
-  std::vector<QuadKey> ask;  // keys of the faces waiting on "shared"
-#pragma omp parallel
-  {
-    std::vector<QuadKey> ask_local;
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-      const Candidate& e = elements[i];
-      const CellFaces cf = faces_of(e.kind);
-      std::size_t at = off[i];
-      for (int f = 0; f < cf.count; ++f) {
-        if (cf.face[f].n != 4) continue;
-        const std::size_t slot = at++;
-        const QuadKey k = quad_key(e, f);
-        // A tet on the face's four corners has the lowest of them as its lowest vertex (at most
-        // one tet has those four vertices).
-        for (auto u = topo.upper_begin(k[0]); u != topo.upper_end(k[0]); ++u) {
-          bool on_face = true;
-          for (int j = 0; j < 3; ++j)
-            on_face = on_face && (u->v[j] == k[1] || u->v[j] == k[2] || u->v[j] == k[3]);
-          if (!on_face || used[u->tet]) continue;
-          const std::int32_t t = u->tet;
-          const auto& T = topo.mesh().tets[t];
-          if (policy == SliverPolicy::kSharedOrBoundary) {
-            int on_surface = 0;
-            for (int skip = 0; skip < 4; ++skip)
-              on_surface += topo.surface_triangle(T[(skip + 1) % 4], T[(skip + 2) % 4],
-                                                  T[(skip + 3) % 4]) >= 0;
-            if (on_surface < 2) {
-              hit[slot] = -2 - t;
-              ask_local.push_back(k);
-              continue;
-            }
-          } else if (!(tet_quality(topo, t) < flat_sj)) {
-            continue;
-          }
-          hit[slot] = t;
-        }
-      }
+  // The policy's test, on all threads, of every free tet (a sliver qualifies or not whatever
+  // face it lies on): 1 it qualifies, 2 only where its face is shared, 0 not.
+  const auto nt = static_cast<std::ptrdiff_t>(used.size());
+  std::vector<std::uint8_t> verdict(used.size(), 0);
+#pragma omp parallel for schedule(static, 4096)
+  for (std::ptrdiff_t t = 0; t < nt; ++t) {
+    if (used[t]) continue;
+    if (policy == SliverPolicy::kSharedOrBoundary) {
+      const auto& T = topo.mesh().tets[t];
+      int on_surface = 0;
+      for (int skip = 0; skip < 4; ++skip)
+        on_surface +=
+            topo.surface_triangle(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]) >= 0;
+      verdict[t] = on_surface < 2 ? 2 : 1;
+    } else {
+      verdict[t] = tet_quality(topo, static_cast<std::int32_t>(t)) < flat_sj ? 1 : 0;
     }
-#pragma omp critical
-    ask.insert(ask.end(), ask_local.begin(), ask_local.end());
   }
-  // How many elements have each asked face: one pass over all quad faces against the few asked.
-  std::sort(ask.begin(), ask.end());
-  ask.erase(std::unique(ask.begin(), ask.end()), ask.end());
-  std::vector<int> count(ask.size(), 0);
-  if (!ask.empty())
-    for (const Candidate& e : elements) {
-      const CellFaces cf = faces_of(e.kind);
-      for (int f = 0; f < cf.count; ++f) {
-        if (cf.face[f].n != 4) continue;
-        const QuadKey k = quad_key(e, f);
-        const auto it = std::lower_bound(ask.begin(), ask.end(), k);
-        if (it != ask.end() && *it == k) ++count[it - ask.begin()];
-      }
-    }
+  // Those tets by their sorted corners (no two tets have the same four vertices): a few hundred
+  // thousand against millions of quad faces, looked up from each face.
+  // Most faces have no such tet: a bit per hash value (2 MB, a few percent of false hits) turns
+  // them away before the map's bigger table is read.
+  OpenHashMap<QuadKey, std::int32_t, QuadKeyHash> by_corners;
+  constexpr int kFilterBits = 24;
+  std::vector<std::uint64_t> filter(std::size_t{1} << (kFilterBits - 6), 0);
+  auto filter_bit = [](const QuadKey& k) { return QuadKeyHash{}(k) >> (64 - kFilterBits); };
+  for (std::ptrdiff_t t = 0; t < nt; ++t) {
+    if (!verdict[t]) continue;
+    QuadKey k = topo.mesh().tets[t];
+    std::sort(k.begin(), k.end());
+    by_corners.emplace(k, static_cast<std::int32_t>(t));
+    const std::uint64_t b = filter_bit(k);
+    filter[b >> 6] |= std::uint64_t{1} << (b & 63);
+  }
+  // Quad face slot (6 * element + local face) -> the tet on its four corners that qualifies,
+  // -1 none, or -2 - tet when it qualifies only if the face is shared. Marking them used is
+  // left to the serial pass below, in face order.
+  std::vector<std::int32_t> hit(6 * elements.size(), -1);
+  parallel_for_quad_faces(elements, [&](std::size_t i, int f) {
+    const QuadKey k = quad_key(elements[i], f);
+    const std::uint64_t b = filter_bit(k);
+    if (!(filter[b >> 6] >> (b & 63) & 1)) return;
+    const std::int32_t* t = by_corners.find(k);
+    if (t) hit[6 * i + f] = verdict[*t] == 1 ? *t : -2 - *t;
+  });
+  // Every face a tet lies on finds it: how many of the elements have its face.
+  std::vector<std::uint8_t> faces(used.size(), 0);
+  for (const std::int32_t h : hit)
+    if (h <= -2 && faces[-2 - h] < 2) ++faces[-2 - h];
   std::size_t absorbed = 0;
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const CellFaces cf = faces_of(elements[i].kind);
-    std::size_t at = off[i];
-    for (int f = 0; f < cf.count; ++f) {
-      if (cf.face[f].n != 4) continue;
-      std::int32_t t = hit[at++];
-      if (t == -1) continue;
-      if (t <= -2) {
-        t = -2 - t;
-        const QuadKey k = quad_key(elements[i], f);
-        if (count[std::lower_bound(ask.begin(), ask.end(), k) - ask.begin()] < 2) continue;
-      }
-      if (used[t]) continue;  // found from the other element on the face
-      used[t] = 1;
-      s.absorbed.push_back(t);
-      ++absorbed;
+  for (std::int32_t t : hit) {
+    if (t == -1) continue;
+    if (t <= -2) {
+      t = -2 - t;
+      if (faces[t] < 2) continue;
     }
+    if (used[t]) continue;  // found from the other element on the face
+    used[t] = 1;
+    s.absorbed.push_back(t);
+    ++absorbed;
   }
   s.debug_verify();
   return absorbed;
@@ -164,13 +185,12 @@ std::size_t absorb_face_slivers(RecombineState& s, const std::vector<Candidate>&
 std::size_t release_orphan_slivers(RecombineState& s) {
   const TetTopology& topo = s.topo;
   std::vector<std::int32_t>& absorbed = s.absorbed;
-  const std::vector<QuadKey> quads = sorted_quad_keys(s.elements);
+  const QuadFaces quads(s.elements, topo.num_vertices());
   std::size_t released = 0, k = 0;
   for (std::int32_t t : absorbed) {
     QuadKey key = topo.mesh().tets[t];
     std::sort(key.begin(), key.end());
-    const auto range = std::equal_range(quads.begin(), quads.end(), key);
-    const auto faces = range.second - range.first;
+    const int faces = quads.count(key);
     int on_surface = 0;
     const auto& T = topo.mesh().tets[t];
     for (int skip = 0; skip < 4; ++skip)

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -37,9 +38,42 @@ std::size_t release_orphan_slivers(RecombineState& s);
 using KeyedTet = std::pair<QuadKey, std::int32_t>;
 std::vector<KeyedTet> tets_by_corners(const TetTopology& topo,
                                       const std::vector<std::int32_t>& tets);
-// Sorted keys (sorted corners) of every quad face of `elements`; a key listed twice is a face
-// two elements share.
-std::vector<QuadKey> sorted_quad_keys(const std::vector<Candidate>& elements);
-bool quad_shared(const std::vector<QuadKey>& keys, const QuadKey& k);
+// visit(element, local face) for every quad face of `elements`, on all threads.
+void parallel_for_quad_faces(const std::vector<Candidate>& elements,
+                             const std::function<void(std::size_t, int)>& visit);
+
+// Every quad face of a list of elements, filed under its lowest corner (a few faces per vertex),
+// and for each face the other element's face with the same corners: which faces two elements
+// share, read in a slot, or for any four corners in a short scan instead of a search of all
+// faces. A slot is 6 * element + local face. Built on all threads, each filing the faces of its
+// own range of vertices in element order, so nothing depends on the threads.
+class QuadFaces {
+ public:
+  // Vertices are below num_vertices.
+  QuadFaces(const std::vector<Candidate>& elements, std::size_t num_vertices);
+  // How many of the elements have a quad face with sorted corners k (0, 1 or 2 in a valid state).
+  int count(const QuadKey& k) const;
+  // The slot of the other face with the same corners as quad face `slot` when exactly two
+  // elements have it; kAlone when no other element has it; kMany when more do.
+  static constexpr std::int32_t kAlone = -1, kMany = -2;
+  std::int32_t match(std::size_t slot) const { return match_[slot]; }
+  bool shared(std::size_t slot) const { return match_[slot] != kAlone; }
+  // The slots of the faces with sorted corners k, in slot order, to visit(slot).
+  template <class Visit>
+  void for_each(const QuadKey& k, Visit visit) const {
+    for (std::int32_t i = off_[k[0]]; i < off_[k[0] + 1]; ++i)
+      if (face_[i].v[0] == k[1] && face_[i].v[1] == k[2] && face_[i].v[2] == k[3])
+        visit(face_[i].slot);
+  }
+
+ private:
+  struct Face {
+    std::int32_t v[3];  // the other three corners, sorted
+    std::int32_t slot;
+  };
+  std::vector<std::int32_t> off_;
+  std::vector<Face> face_;
+  std::vector<std::int32_t> match_;
+};
 
 }  // namespace hexfem

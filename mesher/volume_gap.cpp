@@ -49,7 +49,7 @@ VolumeGap limit_volume_gap(RecombineState& s, double max_rel_gap) {
   const double budget = max_rel_gap * r.tets;
   // A few rounds: freeing slivers makes the prediction of a round inexact.
   for (int round = 0; round < 8 && std::abs(g) > budget; ++round) {
-    const std::vector<QuadKey> keys = sorted_quad_keys(elements);
+    const QuadFaces quads(elements, topo.num_vertices());
     const std::vector<KeyedTet> slivers = tets_by_corners(topo, s.absorbed);
     const double sign = g < 0 ? 1.0 : -1.0;  // undoing must move g towards 0
     std::vector<Undo> undo;
@@ -67,7 +67,7 @@ VolumeGap limit_volume_gap(RecombineState& s, double max_rel_gap) {
         if (cf.face[f].n != 4) continue;
         // A sliver on a shared face is freed too when the neighbour goes in the same round.
         const QuadKey k = quad_key(e, f);
-        const bool shared = quad_shared(keys, k);
+        const bool shared = quads.shared(6 * i + f);
         auto it = std::lower_bound(slivers.begin(), slivers.end(), KeyedTet{k, -1});
         for (; it != slivers.end() && it->first == k; ++it) {
           if (!shared) gain += topo.tet_volume(it->second);

@@ -255,13 +255,22 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
     return Vec3{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
   };
   auto dot = [](const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  // The flat tets, found on all threads; the serial pass below looks only at them.
+  std::vector<std::int32_t> flat;
+  const auto nt = static_cast<std::ptrdiff_t>(tets.tets.size());
+  std::vector<char> is_flat(tets.tets.size());
+#pragma omp parallel for schedule(static, 4096)
+  for (std::ptrdiff_t t = 0; t < nt; ++t) {
+    Vec3 x[4];
+    for (int i = 0; i < 4; ++i) x[i] = X[tets.tets[t][i]];
+    is_flat[t] = min_scaled_jacobian(CellKind::Tet4, x) < flat_sj;
+  }
+  for (std::ptrdiff_t t = 0; t < nt; ++t)
+    if (is_flat[t]) flat.push_back(static_cast<std::int32_t>(t));
   std::vector<char> drop(tets.tets.size(), 0);
   std::size_t dropped = 0;
-  for (std::size_t t = 0; t < tets.tets.size(); ++t) {
+  for (const std::int32_t t : flat) {
     const Tet& T = tets.tets[t];
-    Vec3 x[4];
-    for (int i = 0; i < 4; ++i) x[i] = X[T[i]];
-    if (!(min_scaled_jacobian(CellKind::Tet4, x) < flat_sj)) continue;
     // Faces by the corner they skip; which are surface triangles.
     std::int32_t sf[4];
     int ns = 0, on[2] = {-1, -1}, off[2] = {-1, -1}, no = 0;
@@ -337,13 +346,18 @@ std::size_t lift_slivers(MixedMesh& mesh, std::size_t num_fixed_nodes, double be
   const std::size_t nc = mesh.num_cells();
   std::vector<std::size_t> bad;
   std::vector<double> floor(nc);
-  for (std::size_t c = 0; c < nc; ++c) {
+  std::vector<char> is_bad(nc);
+  const auto count = static_cast<std::ptrdiff_t>(nc);
+#pragma omp parallel for schedule(static, 4096)
+  for (std::ptrdiff_t c = 0; c < count; ++c) {
     const double s = cell_score(mesh, c);
     const CellKind k = mesh.cell_kind[c];
     const double kind_floor = k == CellKind::Tet4 ? -1.0 : k == CellKind::Pyramid5 ? 0.05 : 0.3;
     floor[c] = std::min(s, kind_floor);
-    if (s < below) bad.push_back(c);
+    is_bad[c] = s < below;
   }
+  for (std::size_t c = 0; c < nc; ++c)
+    if (is_bad[c]) bad.push_back(c);
   if (bad.empty()) return 0;
   // Cells at each node (CSR).
   std::vector<std::int32_t> off(mesh.nodes.size() + 1, 0), star;

@@ -74,16 +74,28 @@ MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& f
   std::array<double, kNumCellKinds> min_sj;
   min_sj.fill(std::numeric_limits<double>::max());
   double q_sum = 0;
-  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+  // Each cell's volume and quality on all threads; the sums below run in cell order, so they
+  // do not depend on the threads.
+  const std::size_t nc = mesh.num_cells();
+  std::vector<double> cell_vol(nc), cell_sj(nc);
+  std::vector<char> cell_inv(nc);
+  const auto n = static_cast<std::ptrdiff_t>(nc);
+#pragma omp parallel for schedule(static, 4096)
+  for (std::ptrdiff_t c = 0; c < n; ++c) {
+    cell_vol[c] = cell_volume(mesh, c);
+    cell_sj[c] = cell_min_scaled_jacobian(mesh, c);
+    cell_inv[c] = cell_is_inverted(mesh, c);
+  }
+  for (std::size_t c = 0; c < nc; ++c) {
     const int k = static_cast<int>(mesh.cell_kind[c]);
     ++s.cells_per_kind[k];
-    const double v = cell_volume(mesh, c);
+    const double v = cell_vol[c];
     vol_per_kind[k] += v;
     s.volume += v;
-    const double sj = cell_min_scaled_jacobian(mesh, c);
+    const double sj = cell_sj[c];
     min_sj[k] = std::min(min_sj[k], sj);
     if (mesh.cell_kind[c] == CellKind::Hex8) q_sum += sj;
-    if (cell_is_inverted(mesh, c))
+    if (cell_inv[c])
       ++s.inverted;
     else if (sj < kDegenerateScaledJacobian)
       ++s.degenerate;

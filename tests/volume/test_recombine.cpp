@@ -331,20 +331,21 @@ Recombined slab_around_a_hole() {
 // Quad faces of `elements` that no other element's quad matches, off the box's surface: counted
 // from the vertex sets alone.
 std::size_t unmatched_interior_quads(const Lattice& L, const std::vector<Candidate>& elements) {
-  const std::vector<QuadKey> keys = sorted_quad_keys(elements);
+  const QuadFaces quads(elements, L.tets.nodes.size());
   std::size_t n = 0;
-  for (std::size_t i = 0; i < keys.size(); ++i) {
-    if ((i > 0 && keys[i] == keys[i - 1]) || (i + 1 < keys.size() && keys[i] == keys[i + 1]))
-      continue;
-    bool on_surface = false;  // all four corners on one side of the 3x3x1 box
-    for (int d = 0; d < 3 && !on_surface; ++d)
-      for (double side : {0.0, d == 2 ? 1.0 : 3.0}) {
-        bool all = true;
-        for (std::int32_t v : keys[i]) all = all && L.tets.nodes[v][d] == side;
-        on_surface = on_surface || all;
-      }
-    n += !on_surface;
-  }
+  for (std::size_t i = 0; i < elements.size(); ++i)
+    for (int f = 0; f < faces_of(elements[i].kind).count; ++f) {
+      if (faces_of(elements[i].kind).face[f].n != 4 || quads.shared(6 * i + f)) continue;
+      const QuadKey key = quad_key(elements[i], f);
+      bool on_surface = false;  // all four corners on one side of the 3x3x1 box
+      for (int d = 0; d < 3 && !on_surface; ++d)
+        for (double side : {0.0, d == 2 ? 1.0 : 3.0}) {
+          bool all = true;
+          for (std::int32_t v : key) all = all && L.tets.nodes[v][d] == side;
+          on_surface = on_surface || all;
+        }
+      n += !on_surface;
+    }
   return n;
 }
 
