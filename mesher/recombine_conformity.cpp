@@ -414,7 +414,8 @@ class Undoer {
         across_(faces_across(s.topo, s.elements)),
         gone_(s.elements.size(), 0),
         slivers_(tets_by_corners(s.topo, s.absorbed)),
-        good_(s.elements.size(), -1) {}
+        good_(s.elements.size(), -1),
+        gain_(s.elements.size(), kUnknown) {}
 
   std::size_t count() const { return count_nc(s_.elements, across_, gone_); }
   // Undoes the elements worth it, round after round (undoing changes its neighbours' gains).
@@ -437,6 +438,10 @@ class Undoer {
   // The pyramids e's tets make on its partners' faces once e is undone (pyramid_behind), by
   // partner face: (e's face, the pyramid), in behind_.
   void find_pyramids_behind(std::int32_t i);
+  // How much undoing element i lowers the NC count, or kNotWorth when less than its kind's
+  // minimum gain (or it cannot be undone). It depends only on what lies across i's faces.
+  static constexpr int kUnknown = -1000, kNotWorth = -1001;
+  int gain_of(std::size_t i);
   // The elements whose undoing lowers the NC count by their kind's minimum gain, best first.
   std::vector<Undo> worth_undoing();
   // Undoes element i and the pyramids on it, and makes the pyramids behind it at once (so later
@@ -450,6 +455,9 @@ class Undoer {
   std::vector<char> gone_;
   const std::vector<KeyedTet> slivers_;  // absorbed slivers by their sorted corners
   std::vector<signed char> good_;        // gives_back_good_tets, -1: not known yet
+  // gain_of, kUnknown until asked and again whenever what lies across a face changes: a round
+  // asks only the elements next to the last round's changes (most rounds undo a handful).
+  std::vector<int> gain_;
   std::vector<std::pair<int, Candidate>> behind_;
 };
 
@@ -491,34 +499,40 @@ void Undoer::find_pyramids_behind(std::int32_t i) {
   }
 }
 
+int Undoer::gain_of(std::size_t i) {
+  const CellFaces cf = faces_of(s_.elements[i].kind);
+  int gain = 0, nc = 0;
+  bool ok = true;
+  for (int f = 0; f < cf.count && ok; ++f) {
+    if (cf.face[f].n != 4) continue;
+    const Across& o = across_[6 * i + f];
+    if (o.element == kTets) {
+      ++gain;  // an NC face goes
+      ++nc;
+    } else if (o.element >= 0) {
+      if (s_.elements[o.element].kind == CellKind::Pyramid5)
+        ok = gives_back_good_tets(o.element);  // it goes too, leaving no NC face
+      else
+        --gain;  // the partner's face becomes NC, unless a pyramid of e's tets covers it
+    }
+  }
+  const int need = s_.elements[i].kind == CellKind::Hex8 ? o_.min_hex_gain : 1;
+  if (!ok || nc < need) return kNotWorth;
+  if (gain < need) {
+    find_pyramids_behind(static_cast<std::int32_t>(i));
+    gain += static_cast<int>(behind_.size());
+  }
+  if (gain >= need && gives_back_good_tets(static_cast<std::int32_t>(i))) return gain;
+  return kNotWorth;
+}
+
 std::vector<Undo> Undoer::worth_undoing() {
   std::vector<Undo> undo;
   for (std::size_t i = 0; i < s_.elements.size(); ++i) {
     if (gone_[i]) continue;
-    const CellFaces cf = faces_of(s_.elements[i].kind);
-    int gain = 0, nc = 0;
-    bool ok = true;
-    for (int f = 0; f < cf.count && ok; ++f) {
-      if (cf.face[f].n != 4) continue;
-      const Across& o = across_[6 * i + f];
-      if (o.element == kTets) {
-        ++gain;  // an NC face goes
-        ++nc;
-      } else if (o.element >= 0) {
-        if (s_.elements[o.element].kind == CellKind::Pyramid5)
-          ok = gives_back_good_tets(o.element);  // it goes too, leaving no NC face
-        else
-          --gain;  // the partner's face becomes NC, unless a pyramid of e's tets covers it
-      }
-    }
-    const int need = s_.elements[i].kind == CellKind::Hex8 ? o_.min_hex_gain : 1;
-    if (!ok || nc < need) continue;
-    if (gain < need) {
-      find_pyramids_behind(static_cast<std::int32_t>(i));
-      gain += static_cast<int>(behind_.size());
-    }
-    if (gain >= need && gives_back_good_tets(static_cast<std::int32_t>(i)))
-      undo.push_back({gain, s_.elements[i].quality, static_cast<std::int32_t>(i)});
+    if (gain_[i] == kUnknown) gain_[i] = gain_of(i);
+    if (gain_[i] != kNotWorth)
+      undo.push_back({gain_[i], s_.elements[i].quality, static_cast<std::int32_t>(i)});
   }
   std::sort(undo.begin(), undo.end());
   return undo;
@@ -546,7 +560,9 @@ void Undoer::undo_element(std::int32_t i, std::vector<char>& touched) {
     const CellFaces df = faces_of(elements[d].kind);
     for (int f = 0; f < df.count; ++f) {
       const Across o = df.face[f].n == 4 ? across_[6 * d + f] : Across{};
-      if (o.element >= 0) across_[6 * o.element + o.face] = Across{};  // now facing tets
+      if (o.element < 0) continue;
+      across_[6 * o.element + o.face] = Across{};  // now facing tets
+      gain_[o.element] = kUnknown;
     }
   }
   for (std::size_t k = 0; k < behind_.size(); ++k) {
@@ -554,10 +570,12 @@ void Undoer::undo_element(std::int32_t i, std::vector<char>& touched) {
     s_.place(behind_[k].second);
     gone_.push_back(0);
     good_.push_back(-1);
+    gain_.push_back(kUnknown);
     touched.push_back(1);
     across_.resize(6 * elements.size());
     across_[6 * y] = partner[k];  // the pyramid's base is its face 0
     across_[6 * partner[k].element + partner[k].face] = {y, 0};
+    gain_[partner[k].element] = kUnknown;
     ++r_.pyramids_added;
   }
 }

@@ -81,9 +81,12 @@ std::size_t place_greedily(RecombineState& s, const CandidateChunks& next, Confo
     return corners_have_free_tets(free_around, c.nodes.data(), num_nodes(c.kind));
   };
   // In chunks, best first: the fill tests of a chunk's still possible candidates on all threads
-  // (they only read `used`), then the serial greedy pass over the chunk.
+  // (they only read `used`), with the conformity rules against the elements placed before the
+  // chunk; then the serial greedy pass over the chunk, which checks the rules against the
+  // elements placed in it only (a candidate breaking them against earlier ones is out anyway).
   std::vector<Candidate> chunk;
   std::vector<char> fillable;
+  std::vector<std::uint64_t> near;
   std::size_t kept = 0;
   for (;;) {
     chunk.clear();
@@ -91,17 +94,37 @@ std::size_t place_greedily(RecombineState& s, const CandidateChunks& next, Confo
     if (chunk.empty()) break;
     fillable.resize(chunk.size());
     const auto count = static_cast<std::ptrdiff_t>(chunk.size());
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::ptrdiff_t k = 0; k < count; ++k) {
-      Candidate& c = chunk[k];
-      fillable[k] = possible(c) && (c.tets[0] >= 0 || fills_element(topo, c, &used, s.limits.fill));
+    const std::size_t before = index.size();
+#pragma omp parallel
+    {
+      std::vector<std::uint64_t> near_local;
+#pragma omp for schedule(dynamic, 256)
+      for (std::ptrdiff_t k = 0; k < count; ++k) {
+        Candidate& c = chunk[k];
+        fillable[k] = possible(c) &&
+                      (c.tets[0] >= 0 || fills_element(topo, c, &used, s.limits.fill)) &&
+                      !index.conflicts(c, 0, near_local);
+      }
     }
+    // The pass waits on memory (the candidates lie all over the part): what a candidate a few
+    // places ahead will read is asked for early.
+    constexpr std::size_t kAhead = 8;
     for (std::size_t i = 0; i < chunk.size(); ++i) {
+      if (i + kAhead < chunk.size() && fillable[i + kAhead]) {
+        const Candidate& a = chunk[i + kAhead];
+        index.prefetch(a);
+        for (int k = 0; k < num_nodes(a.kind); ++k) __builtin_prefetch(&free_around[a.nodes[k]]);
+        for (std::int32_t t : a.tets)
+          if (t >= 0) {
+            __builtin_prefetch(&used[t]);
+            __builtin_prefetch(&m.tets[t]);
+          }
+      }
       const Candidate& c = chunk[i];
       if (!fillable[i] || !possible(c)) continue;
       bool free = true;
       for (std::int32_t t : c.tets) free = free && (t < 0 || !used[t]);
-      if (!free || index.conflicts(c)) continue;
+      if (!free || index.conflicts(c, before, near)) continue;
       for (std::int32_t t : c.tets)
         if (t >= 0)
           for (std::int32_t v : m.tets[t]) --free_around[v];

@@ -255,12 +255,19 @@ std::size_t merge_slivers_into_pyramids(RecombineState& state) {
     }
     return false;
   };
+  // A quad can add a wanted triple only with three corners on slivers: the others are skipped
+  // before any hashing (they are nearly all of them).
+  std::vector<char> on_sliver(topo.num_vertices(), 0);
+  for (const std::int32_t t : slivers)
+    for (const std::int32_t v : m.tets[t]) on_sliver[v] = 1;
   for (const Candidate& e : state.elements) {
-    const CellFaces cf = faces_of(e.kind);
-    for (int f = 0; f < cf.count; ++f)
-      if (cf.face[f].n == 4)
-        add_quad({e.nodes[cf.face[f].v[0]], e.nodes[cf.face[f].v[1]], e.nodes[cf.face[f].v[2]],
-                  e.nodes[cf.face[f].v[3]]});
+    const CellFaces& cf = faces_of(e.kind);
+    for (int f = 0; f < cf.count; ++f) {
+      if (cf.face[f].n != 4) continue;
+      const std::array<std::int32_t, 4> q{e.nodes[cf.face[f].v[0]], e.nodes[cf.face[f].v[1]],
+                                          e.nodes[cf.face[f].v[2]], e.nodes[cf.face[f].v[3]]};
+      if (on_sliver[q[0]] + on_sliver[q[1]] + on_sliver[q[2]] + on_sliver[q[3]] >= 3) add_quad(q);
+    }
   }
   // The tet other than `skip` with face (a, b, c), or -1 (none: a surface triangle).
   auto across = [&](std::int32_t skip, std::int32_t a, std::int32_t b, std::int32_t c) {

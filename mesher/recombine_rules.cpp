@@ -99,30 +99,32 @@ void ConformityIndex::for_each_at(std::int32_t v, Visit visit) const {
   for (; it != overflow_.end() && it->first == v; ++it) visit(it->second);
 }
 
-bool ConformityIndex::conflicts(const Candidate& c) const {
+bool ConformityIndex::conflicts(const Candidate& c, std::size_t from,
+                                std::vector<std::uint64_t>& near) const {
   const int nc = num_nodes(c.kind);
-  near_.clear();
+  near.clear();
   for (int i = 0; i < nc; ++i)
     for_each_at(c.nodes[i], [&](std::int32_t e) {
-      near_.push_back(static_cast<std::uint64_t>(e) << 8 | static_cast<unsigned>(i));
+      if (static_cast<std::size_t>(e) >= from)
+        near.push_back(static_cast<std::uint64_t>(e) << 8 | static_cast<unsigned>(i));
     });
-  std::sort(near_.begin(), near_.end());
-  for (std::size_t i = 0; i < near_.size();) {
+  std::sort(near.begin(), near.end());
+  for (std::size_t i = 0; i < near.size();) {
     std::size_t j = i + 1;
-    while (j < near_.size() && near_[j] >> 8 == near_[i] >> 8) ++j;
+    while (j < near.size() && near[j] >> 8 == near[i] >> 8) ++j;
     // Every rule needs two shared vertices.
     if (j - i < 2) {
       i = j;
       continue;
     }
-    const Placed& e = placed_[near_[i] >> 8];
+    const Placed& e = placed_[near[i] >> 8];
     // The candidate's corner at each of e's corners, or -1.
     int at[8];
     const int ne = num_nodes(e.kind);
     for (int k = 0; k < ne; ++k) {
       at[k] = -1;
       for (std::size_t s = i; s < j; ++s) {
-        const int ci = static_cast<int>(near_[s] & 0xff);
+        const int ci = static_cast<int>(near[s] & 0xff);
         if (c.nodes[ci] == e.nodes[k]) at[k] = ci;
       }
     }

@@ -21,7 +21,17 @@ bool rules_conflict(const Candidate& c, const Candidate& e);
 
 class ConformityIndex {
  public:
-  bool conflicts(const Candidate& c) const;
+  bool conflicts(const Candidate& c) const { return conflicts(c, 0, near_); }
+  // Against the elements added from the `from`-th on only (added before: checked already), with
+  // the caller's work list, so that threads can check at once while nothing is added.
+  bool conflicts(const Candidate& c, std::size_t from, std::vector<std::uint64_t>& near) const;
+  // Asks the memory for what conflicts(c) and add(c) will read (a hint, no effect otherwise).
+  void prefetch(const Candidate& c) const {
+    for (int i = 0; i < num_nodes(c.kind); ++i)
+      if (static_cast<std::size_t>(c.nodes[i]) < at_.size()) __builtin_prefetch(&at_[c.nodes[i]]);
+  }
+  // How many elements were added.
+  std::size_t size() const { return placed_.size(); }
   void add(const Candidate& c);
   // Room for about n elements.
   void reserve(std::size_t n);
