@@ -78,9 +78,10 @@ void parallel_sort(std::vector<T>& v, Less less = {}) {
 
 // Calls add(i, out) for every i in [0, n) on all threads and returns what the calls appended to
 // `out`, in the order of i: each thread takes one block of indices (OpenMP's static schedule
-// hands them out in thread order) and the blocks are joined in order.
+// hands them out in thread order) and the blocks are joined in order. `expected`: about how
+// many items all calls append (reserved, as address space only, so the lists need not grow).
 template <class T, class Add>
-std::vector<T> parallel_collect(std::size_t n, Add add) {
+std::vector<T> parallel_collect(std::size_t n, Add add, std::size_t expected = 0) {
   int threads = 1;
 #ifdef _OPENMP
   threads = omp_get_max_threads();
@@ -93,6 +94,7 @@ std::vector<T> parallel_collect(std::size_t n, Add add) {
 #ifdef _OPENMP
     me = omp_get_thread_num();
 #endif
+    parts[me].reserve(expected / threads + expected / 8);
 #pragma omp for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) add(static_cast<std::size_t>(i), parts[me]);
   }
