@@ -413,7 +413,7 @@ class Undoer {
         r_(r),
         across_(faces_across(s.topo, s.elements)),
         gone_(s.elements.size(), 0),
-        slivers_(tets_by_corners(s.topo, s.absorbed)),
+        slivers_(s.topo, s.absorbed),
         good_(s.elements.size(), -1),
         gain_(s.elements.size(), kUnknown) {}
 
@@ -453,8 +453,8 @@ class Undoer {
   NcRepair& r_;
   std::vector<Across> across_;
   std::vector<char> gone_;
-  const std::vector<KeyedTet> slivers_;  // absorbed slivers by their sorted corners
-  std::vector<signed char> good_;        // gives_back_good_tets, -1: not known yet
+  const TetsByCorners slivers_;    // the absorbed slivers
+  std::vector<signed char> good_;  // gives_back_good_tets, -1: not known yet
   // gain_of, kUnknown until asked and again whenever what lies across a face changes: a round
   // asks only the elements next to the last round's changes (most rounds undo a handful).
   std::vector<int> gain_;
@@ -471,9 +471,8 @@ bool Undoer::gives_back_good_tets(std::int32_t i) {
   for (int f = 0; f < cf.count && ok; ++f) {
     if (cf.face[f].n != 4) continue;
     const QuadKey k = quad_key(e, f);
-    auto it = std::lower_bound(slivers_.begin(), slivers_.end(), std::make_pair(k, -1));
-    for (; it != slivers_.end() && it->first == k && ok; ++it)
-      ok = tet_quality(s_.topo, it->second) >= keep_sj;
+    const std::int32_t t = slivers_.find(k);
+    if (t >= 0) ok = tet_quality(s_.topo, t) >= keep_sj;
   }
   good_[i] = ok ? 1 : 0;
   return ok;

@@ -281,6 +281,9 @@ void quads_at(const TetTopology& topo, std::int32_t v, double min_sin, FillScrat
         any = true;
       }
     }
+    // The star's tets lie all over memory: asked for all at once, not one miss after another.
+    if (any)
+      for (auto s = topo.star_begin(a); s != topo.star_end(a); ++s) __builtin_prefetch(&m.tets[*s]);
     if (any)
       for (auto s = topo.star_begin(a); s != topo.star_end(a); ++s) {
         if (taken(*s)) continue;

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "mesher/mesh/parallel_sort.hpp"
+#include "mesher/mesh/parallel.hpp"
 
 namespace hexfem {
 

@@ -7,21 +7,18 @@
 #endif
 
 #include "mesher/mesh/element_topology.hpp"
-#include "mesher/mesh/parallel_sort.hpp"
 
 namespace hexfem {
 
-std::vector<KeyedTet> tets_by_corners(const TetTopology& topo,
-                                      const std::vector<std::int32_t>& tets) {
-  std::vector<KeyedTet> out;
-  out.reserve(tets.size());
-  for (std::int32_t t : tets) {
+TetsByCorners::TetsByCorners(const TetTopology& topo, const std::vector<std::int32_t>& tets)
+    : map_(tets.size()), filter_(std::size_t{1} << (kFilterBits - 6), 0) {
+  for (const std::int32_t t : tets) {
     QuadKey k = topo.mesh().tets[t];
     std::sort(k.begin(), k.end());
-    out.push_back({k, t});
+    map_.emplace(k, t);
+    const std::uint64_t b = Hash{}(k) >> (64 - kFilterBits);
+    filter_[b >> 6] |= std::uint64_t{1} << (b & 63);
   }
-  std::sort(out.begin(), out.end());
-  return out;
 }
 
 void parallel_for_quad_faces(const std::vector<Candidate>& elements,
@@ -94,24 +91,6 @@ QuadFaces::QuadFaces(const std::vector<Candidate>& elements, std::size_t num_ver
   }
 }
 
-int QuadFaces::count(const QuadKey& k) const {
-  int n = 0;
-  for_each(k, [&](std::int32_t) { ++n; });
-  return n;
-}
-
-namespace {
-
-struct QuadKeyHash {
-  std::size_t operator()(const QuadKey& k) const {
-    std::uint64_t h = static_cast<std::uint32_t>(k[0]);
-    for (int i = 1; i < 4; ++i) h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k[i]);
-    return static_cast<std::size_t>(mix64(h));
-  }
-};
-
-}  // namespace
-
 std::size_t absorb_face_slivers(RecombineState& s, const std::vector<Candidate>& elements,
                                 SliverPolicy policy) {
   const TetTopology& topo = s.topo;
@@ -135,32 +114,17 @@ std::size_t absorb_face_slivers(RecombineState& s, const std::vector<Candidate>&
       verdict[t] = tet_quality(topo, static_cast<std::int32_t>(t)) < flat_sj ? 1 : 0;
     }
   }
-  // Those tets by their sorted corners (no two tets have the same four vertices): a few hundred
-  // thousand against millions of quad faces, looked up from each face.
-  // Most faces have no such tet: a bit per hash value (2 MB, a few percent of false hits) turns
-  // them away before the map's bigger table is read.
-  OpenHashMap<QuadKey, std::int32_t, QuadKeyHash> by_corners;
-  constexpr int kFilterBits = 24;
-  std::vector<std::uint64_t> filter(std::size_t{1} << (kFilterBits - 6), 0);
-  auto filter_bit = [](const QuadKey& k) { return QuadKeyHash{}(k) >> (64 - kFilterBits); };
-  for (std::ptrdiff_t t = 0; t < nt; ++t) {
-    if (!verdict[t]) continue;
-    QuadKey k = topo.mesh().tets[t];
-    std::sort(k.begin(), k.end());
-    by_corners.emplace(k, static_cast<std::int32_t>(t));
-    const std::uint64_t b = filter_bit(k);
-    filter[b >> 6] |= std::uint64_t{1} << (b & 63);
-  }
+  std::vector<std::int32_t> candidates;
+  for (std::ptrdiff_t t = 0; t < nt; ++t)
+    if (verdict[t]) candidates.push_back(static_cast<std::int32_t>(t));
+  const TetsByCorners by_corners(topo, candidates);
   // Quad face slot (6 * element + local face) -> the tet on its four corners that qualifies,
   // -1 none, or -2 - tet when it qualifies only if the face is shared. Marking them used is
   // left to the serial pass below, in face order.
   std::vector<std::int32_t> hit(6 * elements.size(), -1);
   parallel_for_quad_faces(elements, [&](std::size_t i, int f) {
-    const QuadKey k = quad_key(elements[i], f);
-    const std::uint64_t b = filter_bit(k);
-    if (!(filter[b >> 6] >> (b & 63) & 1)) return;
-    const std::int32_t* t = by_corners.find(k);
-    if (t) hit[6 * i + f] = verdict[*t] == 1 ? *t : -2 - *t;
+    const std::int32_t t = by_corners.find(quad_key(elements[i], f));
+    if (t >= 0) hit[6 * i + f] = verdict[t] == 1 ? t : -2 - t;
   });
   // Every face a tet lies on finds it: how many of the elements have its face.
   std::vector<std::uint8_t> faces(used.size(), 0);
@@ -185,12 +149,19 @@ std::size_t absorb_face_slivers(RecombineState& s, const std::vector<Candidate>&
 std::size_t release_orphan_slivers(RecombineState& s) {
   const TetTopology& topo = s.topo;
   std::vector<std::int32_t>& absorbed = s.absorbed;
-  const QuadFaces quads(s.elements, topo.num_vertices());
+  // How many elements have each sliver's face.
+  const TetsByCorners on_face(topo, absorbed);
+  std::vector<std::uint8_t> count(s.used.size(), 0);
+  parallel_for_quad_faces(s.elements, [&](std::size_t i, int f) {
+    const std::int32_t t = on_face.find(quad_key(s.elements[i], f));
+    if (t >= 0) {
+#pragma omp atomic update
+      ++count[t];
+    }
+  });
   std::size_t released = 0, k = 0;
   for (std::int32_t t : absorbed) {
-    QuadKey key = topo.mesh().tets[t];
-    std::sort(key.begin(), key.end());
-    const int faces = quads.count(key);
+    const int faces = count[t];
     int on_surface = 0;
     const auto& T = topo.mesh().tets[t];
     for (int skip = 0; skip < 4; ++skip)

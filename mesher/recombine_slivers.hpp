@@ -34,10 +34,33 @@ std::size_t absorb_face_slivers(RecombineState& s, const std::vector<Candidate>&
 // how many.
 std::size_t release_orphan_slivers(RecombineState& s);
 
-// Tets keyed by their sorted corners (a sliver on a quad face has that face's quad_key), sorted.
-using KeyedTet = std::pair<QuadKey, std::int32_t>;
-std::vector<KeyedTet> tets_by_corners(const TetTopology& topo,
-                                      const std::vector<std::int32_t>& tets);
+// Tets found by their four corners, asked from quad faces (a sliver on a quad face has the
+// face's quad_key): a few hundred thousand tets against millions of faces. A bit per hash value
+// (2 MB, a few percent of false hits) turns most faces away before the map's table is read.
+class TetsByCorners {
+ public:
+  TetsByCorners(const TetTopology& topo, const std::vector<std::int32_t>& tets);
+  // The tet whose sorted corners are k, or -1 (no two tets have the same four vertices).
+  std::int32_t find(const QuadKey& k) const {
+    const std::uint64_t b = Hash{}(k) >> (64 - kFilterBits);
+    if (!(filter_[b >> 6] >> (b & 63) & 1)) return -1;
+    const std::int32_t* t = map_.find(k);
+    return t ? *t : -1;
+  }
+
+ private:
+  struct Hash {
+    std::size_t operator()(const QuadKey& k) const {
+      std::uint64_t h = static_cast<std::uint32_t>(k[0]);
+      for (int i = 1; i < 4; ++i) h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k[i]);
+      return static_cast<std::size_t>(mix64(h));
+    }
+  };
+  static constexpr int kFilterBits = 24;
+  OpenHashMap<QuadKey, std::int32_t, Hash> map_;
+  std::vector<std::uint64_t> filter_;
+};
+
 // visit(element, local face) for every quad face of `elements`, on all threads.
 void parallel_for_quad_faces(const std::vector<Candidate>& elements,
                              const std::function<void(std::size_t, int)>& visit);
@@ -51,20 +74,11 @@ class QuadFaces {
  public:
   // Vertices are below num_vertices.
   QuadFaces(const std::vector<Candidate>& elements, std::size_t num_vertices);
-  // How many of the elements have a quad face with sorted corners k (0, 1 or 2 in a valid state).
-  int count(const QuadKey& k) const;
   // The slot of the other face with the same corners as quad face `slot` when exactly two
   // elements have it; kAlone when no other element has it; kMany when more do.
   static constexpr std::int32_t kAlone = -1, kMany = -2;
   std::int32_t match(std::size_t slot) const { return match_[slot]; }
   bool shared(std::size_t slot) const { return match_[slot] != kAlone; }
-  // The slots of the faces with sorted corners k, in slot order, to visit(slot).
-  template <class Visit>
-  void for_each(const QuadKey& k, Visit visit) const {
-    for (std::int32_t i = off_[k[0]]; i < off_[k[0] + 1]; ++i)
-      if (face_[i].v[0] == k[1] && face_[i].v[1] == k[2] && face_[i].v[2] == k[3])
-        visit(face_[i].slot);
-  }
 
  private:
   struct Face {

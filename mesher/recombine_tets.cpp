@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "mesher/mesh/parallel.hpp"
 #include "mesher/mesh/quality.hpp"
 
 namespace hexfem {
@@ -40,26 +41,43 @@ TetTopology::TetTopology(const TetMesh& tets, const SurfaceMesh& surface) : mesh
       for (int k = 1; k < 4; ++k) u.v[k - 1] = T[(lo + k) % 4];
     }
   }
-  // Neighbours: the other vertices of the star, sorted and unique; each vertex's list is made in
-  // its slot of 3 x its star (on all threads), then the slots are packed.
-  std::vector<std::int32_t> wide(3 * star_.size());
+  // Neighbours: the other vertices of the star, sorted and unique, made on all threads and
+  // joined in vertex order (no buffer of three times the star: 300 MB of fresh pages on a
+  // million-vertex part).
   std::vector<std::int32_t> count(nv);
-  const auto num_v = static_cast<std::ptrdiff_t>(nv);
-#pragma omp parallel for schedule(dynamic, 1024)
-  for (std::ptrdiff_t v = 0; v < num_v; ++v) {
-    std::int32_t* begin = &wide[3 * static_cast<std::size_t>(star_off_[v])];
-    std::int32_t* end = begin;
-    for (auto it = star_begin(v); it != star_end(v); ++it)
-      for (std::int32_t w : tets.tets[*it])
-        if (w != v) *end++ = w;
-    std::sort(begin, end);
-    count[v] = static_cast<std::int32_t>(std::unique(begin, end) - begin);
-  }
+  const auto add_neighbours = [&](std::size_t v, std::vector<std::int32_t>& out) {
+    const std::size_t begin = out.size();
+    const auto self = static_cast<std::int32_t>(v);
+    // Each neighbour turns up in several tets of the star: kept once by a small hash table on
+    // the stack (sorting all of them was most of the work), then the few left are sorted.
+    constexpr std::size_t kSlots = 256;
+    if (3 * static_cast<std::size_t>(star_end(self) - star_begin(self)) <= kSlots / 2) {
+      std::int32_t slot[kSlots];
+      std::fill(slot, slot + kSlots, -1);
+      for (auto it = star_begin(self); it != star_end(self); ++it)
+        for (std::int32_t w : tets.tets[*it]) {
+          if (w == self) continue;
+          std::size_t h = static_cast<std::uint32_t>(w) * 0x9E3779B1u >> 24;
+          while (slot[h] >= 0 && slot[h] != w) h = (h + 1) % kSlots;
+          if (slot[h] < 0) {
+            slot[h] = w;
+            out.push_back(w);
+          }
+        }
+      std::sort(out.begin() + begin, out.end());
+    } else {
+      for (auto it = star_begin(self); it != star_end(self); ++it)
+        for (std::int32_t w : tets.tets[*it])
+          if (w != self) out.push_back(w);
+      std::sort(out.begin() + begin, out.end());
+      out.erase(std::unique(out.begin() + begin, out.end()), out.end());
+    }
+    count[v] = static_cast<std::int32_t>(out.size() - begin);
+  };
+  // About 15 neighbours a vertex: room reserved up front, so the lists never grow by copying.
+  adj_ = parallel_collect<std::int32_t>(nv, add_neighbours, 20 * nv);
   adj_off_.assign(nv + 1, 0);
   for (std::size_t v = 0; v < nv; ++v) adj_off_[v + 1] = adj_off_[v] + count[v];
-  adj_.resize(adj_off_[nv]);
-  for (std::size_t v = 0; v < nv; ++v)
-    std::copy_n(&wide[3 * static_cast<std::size_t>(star_off_[v])], count[v], &adj_[adj_off_[v]]);
   const MixedMesh& sm = surface.mesh;
   num_surface_ = sm.nodes.size();
   cad_face_ = sm.bface_cad_face;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/parallel.hpp"
 #include "mesher/mesh/quality.hpp"
 
 namespace hexfem {
@@ -32,8 +33,13 @@ double element_gap(const TetTopology& topo, const Candidate& e) {
 
 double volume_gap(const TetTopology& topo, const std::vector<Candidate>& elements,
                   const std::vector<std::int32_t>& absorbed) {
+  // The elements' gaps on all threads, summed in element order.
+  std::vector<double> gap(elements.size());
+  const auto n = static_cast<std::ptrdiff_t>(elements.size());
+#pragma omp parallel for schedule(static, 4096)
+  for (std::ptrdiff_t i = 0; i < n; ++i) gap[i] = element_gap(topo, elements[i]);
   double g = 0;
-  for (const Candidate& e : elements) g += element_gap(topo, e);
+  for (const double d : gap) g += d;
   for (std::int32_t t : absorbed) g -= topo.tet_volume(t);
   return g;
 }
@@ -50,33 +56,34 @@ VolumeGap limit_volume_gap(RecombineState& s, double max_rel_gap) {
   // A few rounds: freeing slivers makes the prediction of a round inexact.
   for (int round = 0; round < 8 && std::abs(g) > budget; ++round) {
     const QuadFaces quads(elements, topo.num_vertices());
-    const std::vector<KeyedTet> slivers = tets_by_corners(topo, s.absorbed);
+    const TetsByCorners slivers(topo, s.absorbed);
     const double sign = g < 0 ? 1.0 : -1.0;  // undoing must move g towards 0
-    std::vector<Undo> undo;
-    for (std::size_t i = 0; i < elements.size(); ++i) {
-      const Candidate& e = elements[i];
-      bool keeps_valid = true;
-      for (std::int32_t t : e.tets)
-        keeps_valid = keeps_valid && (t < 0 || tet_quality(topo, t) >= keep_sj);
-      if (!keeps_valid) continue;
-      // Undoing changes the gap by -element_gap plus the slivers it frees: those on its faces that
-      // no other element shares.
-      double gain = -element_gap(topo, e);
-      const CellFaces cf = faces_of(e.kind);
-      for (int f = 0; f < cf.count && keeps_valid; ++f) {
-        if (cf.face[f].n != 4) continue;
-        // A sliver on a shared face is freed too when the neighbour goes in the same round.
-        const QuadKey k = quad_key(e, f);
-        const bool shared = quads.shared(6 * i + f);
-        auto it = std::lower_bound(slivers.begin(), slivers.end(), KeyedTet{k, -1});
-        for (; it != slivers.end() && it->first == k; ++it) {
-          if (!shared) gain += topo.tet_volume(it->second);
-          keeps_valid = keeps_valid && tet_quality(topo, it->second) >= keep_sj;
-        }
-      }
-      if (!keeps_valid || sign * gain <= 0) continue;
-      undo.push_back({sign * gain / element_volume(topo, e), gain, i});
-    }
+    // Each element's case on all threads, listed in element order.
+    std::vector<Undo> undo =
+        parallel_collect<Undo>(elements.size(), [&](std::size_t i, std::vector<Undo>& out) {
+          const Candidate& e = elements[i];
+          bool keeps_valid = true;
+          for (std::int32_t t : e.tets)
+            keeps_valid = keeps_valid && (t < 0 || tet_quality(topo, t) >= keep_sj);
+          if (!keeps_valid) return;
+          // Undoing changes the gap by -element_gap plus the slivers it frees: those on its faces
+          // that no other element shares.
+          double gain = -element_gap(topo, e);
+          const CellFaces cf = faces_of(e.kind);
+          for (int f = 0; f < cf.count && keeps_valid; ++f) {
+            if (cf.face[f].n != 4) continue;
+            // A sliver on a shared face is freed too when the neighbour goes in the same round.
+            const QuadKey k = quad_key(e, f);
+            const bool shared = quads.shared(6 * i + f);
+            const std::int32_t t = slivers.find(k);
+            if (t >= 0) {
+              if (!shared) gain += topo.tet_volume(t);
+              keeps_valid = keeps_valid && tet_quality(topo, t) >= keep_sj;
+            }
+          }
+          if (!keeps_valid || sign * gain <= 0) return;
+          out.push_back({sign * gain / element_volume(topo, e), gain, i});
+        });
     if (undo.empty()) break;
     std::sort(undo.begin(), undo.end(), [](const Undo& a, const Undo& b) {
       return a.benefit_per_volume != b.benefit_per_volume

@@ -12,6 +12,7 @@
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
+#include "mesher/mesh/parallel.hpp"
 #include "mesher/mesh/quality.hpp"
 #include "mesher/recombine_conformity.hpp"
 #include "mesher/recombine_hex.hpp"
@@ -146,30 +147,40 @@ MixedMesh assemble(const SurfaceMesh& surface, const RecombineState& s, const Sl
     if (!used[t]) mesh.add_cell(CellKind::Tet4, tm.tets[t].data(), tm.tet_solid[t]);
   for (std::size_t t = 0; t < flips.added.size(); ++t)
     mesh.add_cell(CellKind::Tet4, flips.added[t].data(), flips.added_solid[t]);
-  // Surface triangle -> the boundary quad (element, local face) covering it.
+  // Surface triangle -> the boundary quad (element, local face) covering it. The quad faces on
+  // the surface are found on all threads and filed in element order (where two faces claim a
+  // triangle, the later one keeps it).
+  struct OnSurface {
+    std::int32_t element, face, t1, t2;
+  };
+  const std::vector<OnSurface> found =
+      parallel_collect<OnSurface>(elements.size(), [&](std::size_t i, std::vector<OnSurface>& out) {
+        const Candidate& e = elements[i];
+        const CellFaces& cf = faces_of(e.kind);
+        for (int f = 0; f < cf.count; ++f) {
+          if (cf.face[f].n != 4) continue;
+          const QuadKey q = quad_corners(e, f);
+          // A face with an interior corner is not on the surface (most of them).
+          const auto ns = static_cast<std::int32_t>(topo.num_surface_nodes());
+          if (q[0] >= ns || q[1] >= ns || q[2] >= ns || q[3] >= ns) continue;
+          // The surface triangles under the face: split like the element's tets, or along the
+          // other diagonal when a flat sliver between the two was absorbed into the element.
+          std::int32_t t1 = -1, t2 = -1;
+          for (int d : {quad_diagonal(topo, e, f), 1 - quad_diagonal(topo, e, f)}) {
+            t1 = d == 0 ? topo.surface_triangle(q[0], q[1], q[2])
+                        : topo.surface_triangle(q[0], q[1], q[3]);
+            t2 = d == 0 ? topo.surface_triangle(q[0], q[2], q[3])
+                        : topo.surface_triangle(q[1], q[2], q[3]);
+            if (t1 >= 0 && t2 >= 0) break;
+          }
+          // A face over two (coplanar) CAD faces stays two triangles, each with its own CAD
+          // face.
+          if (t1 < 0 || t2 < 0 || topo.cad_face(t1) != topo.cad_face(t2)) continue;
+          out.push_back({static_cast<std::int32_t>(i), f, t1, t2});
+        }
+      });
   std::vector<std::array<std::int32_t, 2>> quad_of(sm.num_bfaces(), {-1, -1});
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    const Candidate& e = elements[i];
-    const CellFaces cf = faces_of(e.kind);
-    for (int f = 0; f < cf.count; ++f) {
-      const LocalFace& lf = cf.face[f];
-      if (lf.n != 4) continue;
-      const QuadKey q = quad_corners(e, f);
-      // The surface triangles under the face: split like the element's tets, or along the other
-      // diagonal when a flat sliver between the two was absorbed into the element.
-      std::int32_t t1 = -1, t2 = -1;
-      for (int d : {quad_diagonal(topo, e, f), 1 - quad_diagonal(topo, e, f)}) {
-        t1 = d == 0 ? topo.surface_triangle(q[0], q[1], q[2])
-                    : topo.surface_triangle(q[0], q[1], q[3]);
-        t2 = d == 0 ? topo.surface_triangle(q[0], q[2], q[3])
-                    : topo.surface_triangle(q[1], q[2], q[3]);
-        if (t1 >= 0 && t2 >= 0) break;
-      }
-      // A face over two (coplanar) CAD faces stays two triangles, each with its own CAD face.
-      if (t1 < 0 || t2 < 0 || topo.cad_face(t1) != topo.cad_face(t2)) continue;
-      quad_of[t1] = quad_of[t2] = {static_cast<std::int32_t>(i), f};
-    }
-  }
+  for (const OnSurface& o : found) quad_of[o.t1] = quad_of[o.t2] = {o.element, o.face};
   std::vector<char> emitted(elements.size() * 6, 0);
   for (std::size_t t = 0; t < sm.num_bfaces(); ++t) {
     const auto [e, f] = quad_of[t];
@@ -198,13 +209,8 @@ void fill_report(const RecombineState& s, const MixedMesh& mesh,
   for (const Candidate& e : s.elements)
     for (std::int32_t t : e.tets) r.tets_in_elements += t >= 0;
   for (std::size_t t = 0; t < s.used.size(); ++t) r.volume_tets += s.topo.tet_volume(t);
-  // Where the gap comes from: each element against its own tets (on all threads, summed in
-  // element order), and the absorbed slivers.
-  const auto ne = static_cast<std::ptrdiff_t>(s.elements.size());
-  std::vector<double> gap(s.elements.size());
-#pragma omp parallel for schedule(static, 4096)
-  for (std::ptrdiff_t i = 0; i < ne; ++i) gap[i] = element_gap(s.topo, s.elements[i]);
-  for (const double g : gap) r.volume_elements_gap += g;
+  // Where the gap comes from: each element against its own tets, and the absorbed slivers.
+  r.volume_elements_gap = volume_gap(s.topo, s.elements, {});
   for (std::int32_t t : s.absorbed) r.volume_absorbed += s.topo.tet_volume(t);
   r.stats = compute_stats(mesh, faces);
   r.volume_rel_gap =

@@ -1,7 +1,7 @@
 #include "mesher/mesh/conformity.hpp"
 
 #include "mesher/mesh/face_keys.hpp"
-#include "mesher/mesh/parallel_sort.hpp"
+#include "mesher/mesh/parallel.hpp"
 
 namespace hexfem {
 

@@ -82,9 +82,12 @@ MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& f
   const auto n = static_cast<std::ptrdiff_t>(nc);
 #pragma omp parallel for schedule(static, 4096)
   for (std::ptrdiff_t c = 0; c < n; ++c) {
-    cell_vol[c] = cell_volume(mesh, c);
-    cell_sj[c] = cell_min_scaled_jacobian(mesh, c);
-    cell_inv[c] = cell_is_inverted(mesh, c);
+    const CellKind kind = mesh.cell_kind[c];
+    Vec3 x[kMaxCellNodes];  // read once for the three measures
+    for (int i = 0; i < num_nodes(kind); ++i) x[i] = mesh.nodes[mesh.cell(c)[i]];
+    cell_vol[c] = volume(kind, x);
+    cell_sj[c] = min_scaled_jacobian(kind, x);
+    cell_inv[c] = is_inverted(kind, x);
   }
   for (std::size_t c = 0; c < nc; ++c) {
     const int k = static_cast<int>(mesh.cell_kind[c]);

@@ -161,9 +161,13 @@ double cell_min_scaled_jacobian(const MixedMesh& mesh, std::size_t c) {
 }
 
 bool cell_is_inverted(const MixedMesh& mesh, std::size_t c) {
-  Vec3 x[kMaxCellNodes];
+  Vec3 x[kMaxCellNodes] = {};  // (slots past the kind's corners are never read)
   gather(mesh, c, x);
-  const CornerEdges ce = corners_of(mesh.cell_kind[c]);
+  return is_inverted(mesh.cell_kind[c], x);
+}
+
+bool is_inverted(CellKind kind, const Vec3* x) {
+  const CornerEdges ce = corners_of(kind);
   for (int k = 0; k < ce.count; ++k) {
     const auto& cn = ce.corner[k];
     if (det3(sub(x[cn[1]], x[cn[0]]), sub(x[cn[2]], x[cn[0]]), sub(x[cn[3]], x[cn[0]])) <= 0)

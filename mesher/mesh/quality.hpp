@@ -33,5 +33,6 @@ bool cell_is_degenerate(const MixedMesh& mesh, std::size_t c);
 // that are not in a mesh yet (the recombination scores its hexes this way).
 double min_scaled_jacobian(CellKind kind, const Vec3* corners);
 double volume(CellKind kind, const Vec3* corners);
+bool is_inverted(CellKind kind, const Vec3* corners);
 
 }  // namespace hexfem

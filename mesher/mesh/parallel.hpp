@@ -1,7 +1,8 @@
-// Sorting and merging on all OpenMP threads for the big key lists of the mesher (millions of
-// faces). The result is std::sort's whenever elements that compare equal are identical, which
-// holds for every list sorted with it (keys with the owner in the order, or plain keys), so the
-// output never depends on the number of threads. Without OpenMP: std::sort and std::merge.
+// Loops, sorts and merges on all OpenMP threads for the mesher's big lists (millions of faces),
+// whose results never depend on the number of threads. A sort's result is std::sort's whenever
+// elements that compare equal are identical, which holds for every list sorted with it (keys
+// with the owner in the order, or plain keys). Without OpenMP: the serial loop, std::sort and
+// std::merge.
 #pragma once
 
 #include <algorithm>
@@ -73,6 +74,36 @@ void parallel_sort(std::vector<T>& v, Less less = {}) {
     v.swap(buffer);
     cut.swap(next);
   }
+}
+
+// Calls add(i, out) for every i in [0, n) on all threads and returns what the calls appended to
+// `out`, in the order of i: each thread takes one block of indices (OpenMP's static schedule
+// hands them out in thread order) and the blocks are joined in order. `expected`: about how
+// many items all calls append (reserved, as address space only, so the lists need not grow).
+template <class T, class Add>
+std::vector<T> parallel_collect(std::size_t n, Add add, std::size_t expected = 0) {
+  int threads = 1;
+#ifdef _OPENMP
+  threads = omp_get_max_threads();
+#endif
+  std::vector<std::vector<T>> parts(threads);
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel num_threads(threads)
+  {
+    int me = 0;
+#ifdef _OPENMP
+    me = omp_get_thread_num();
+#endif
+    parts[me].reserve(expected / threads + expected / 8);
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) add(static_cast<std::size_t>(i), parts[me]);
+  }
+  std::size_t total = 0;
+  for (const std::vector<T>& p : parts) total += p.size();
+  std::vector<T> all;
+  all.reserve(total);
+  for (const std::vector<T>& p : parts) all.insert(all.end(), p.begin(), p.end());
+  return all;
 }
 
 }  // namespace hexfem
