@@ -184,6 +184,9 @@ RegisterCommand reg{
        sub.add_flag("--smooth-frame", a->volume.smooth_frame,
                     "interior points take the frame of a smooth field, the surface frames "
                     "extended harmonically over a grid (study)");
+       sub.add_flag("--tetgen-delaunay-recovery", a->volume.tetgen_delaunay_recovery,
+                    "let TetGen make the faces next to the boundary Delaunay again after "
+                    "recovering it (tetgen -pY; slower at scale; study)");
        sub.add_flag("--random-points", a->volume.random_points,
                     "random interior points instead of frontal ones (study)");
        return [a] { return run(*a); };

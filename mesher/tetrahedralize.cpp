@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -111,6 +112,37 @@ bool read_all(int fd, void* data, std::size_t n) {
   return true;
 }
 
+// TetGen's own tetrahedralize() for the switches "pY...", step by step, so that its Delaunay
+// recovery can be left out. That pass (run by 1.5.0 whenever -Y is given) queues every face of
+// the mesh for Lawson flips to undo the few non-Delaunay faces the boundary recovery's flips
+// left: 20 of TetGen's 36 s on ANC101 at 1M vertices, for a mesh that differs only next to the
+// boundary (H_nbr 80.77 against 80.78 %, validation/volume.md). The steps and their order are
+// those of tetrahedralize() in TetGen 1.5.0's tetgen.cxx.
+void run_tetgen_stages(tetgenbehavior& b, tetgenio& in, tetgenio& out, bool recover_delaunay) {
+  tetgenmesh m;
+  m.b = &b;
+  m.in = &in;
+  m.addin = nullptr;
+  m.initializepools();
+  m.transfernodes();
+  exactinit(b.verbose, b.noexact, b.nostaticfilter, m.xmax - m.xmin, m.ymax - m.ymin,
+            m.zmax - m.zmin);
+  clock_t split;  // TetGen's timing marks, unused here
+  m.incrementaldelaunay(split);
+  m.meshsurface();
+  m.recoverboundary(split);
+  m.carveholes();
+  if (m.subvertstack->objects > 0l) m.suppresssteinerpoints();
+  if (recover_delaunay) m.recoverdelaunay();
+  if (!b.nojettison && (m.dupverts > 0 || m.unuverts > 0)) m.jettisonnodes();
+  out.firstnumber = in.firstnumber;
+  out.mesh_dim = in.mesh_dim;
+  m.outnodes(&out);
+  if (m.tetrahedrons->items > 0l) m.outelements(&out);
+  if (m.subfaces->items > 0l) m.outsubfaces(&out);
+  m.outneighbors(&out);
+}
+
 // The child's message: the four array sizes, the arrays, then this mark (a child that died
 // while writing leaves it out).
 constexpr std::uint64_t kEndMark = 0x74657467656e4f4bull;
@@ -121,7 +153,7 @@ static_assert(std::is_same_v<REAL, double>, "TetGen built with REAL = double");
 // an error inside TetGen cannot be caught in-process; the child's crash becomes an Error here.
 // The output comes back through a pipe straight into the result's arrays; after a complete
 // message the child is reaped later (its exit, releasing TetGen's memory, overlaps our work).
-TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches) {
+TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recover_delaunay) {
   TetgenResult r;
   int fd[2];
   if (::pipe(fd) != 0) throw Error("TetGen: cannot create a pipe");
@@ -139,7 +171,7 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches) {
       tetgenbehavior b;
       std::vector<char> sw(switches, switches + std::strlen(switches) + 1);
       if (!b.parse_commandline(sw.data())) ::_exit(90);
-      ::tetrahedralize(&b, &in, &out);
+      run_tetgen_stages(b, in, out, recover_delaunay);
     } catch (int c) {
       code = c;
     }
@@ -196,7 +228,7 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches) {
 }  // namespace
 
 TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& interior_points,
-                       const SolidLocator& locator) {
+                       const SolidLocator& locator, bool recover_delaunay) {
   const MixedMesh& sm = surface.mesh;
   const std::size_t ns = sm.nodes.size(), ni = interior_points.size(), nt = sm.num_bfaces();
   tetgenio in;
@@ -224,7 +256,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
   }
   // p: PLC; Y: keep the boundary mesh; n: neighbours; z: 0-based; Q: quiet; O0: no flips or
   // smoothing after the Delaunay construction (they would break the lattice's cubes).
-  const TetgenResult out = run_tetgen_isolated(in, "pYnzQO0");
+  const TetgenResult out = run_tetgen_isolated(in, "pYnzQO0", recover_delaunay);
   const ChildReaper reaper{out.child};
   if (!out.error.empty()) {
     const std::string why = intersection_message(surface, locator);

@@ -1,6 +1,8 @@
 // Tetrahedralization of the surface triangles plus the interior points with TetGen (libtet):
 // every surface triangle is kept as it is (no Steiner point on the boundary, "-Y"), no quality
-// refinement (no "-q"), and each tet is assigned to the solid that contains it.
+// refinement (no "-q"), and each tet is assigned to the solid that contains it. The Delaunay
+// tetrahedralization of the points is constrained to the surface by flips; TetGen's pass that
+// makes the faces next to the boundary Delaunay again afterwards is left out unless asked.
 //
 // Takes: the SurfaceMesh and the interior points.
 // Gives: a TetMesh: positive tets, each with its solid.
@@ -28,7 +30,10 @@ struct TetMesh {
 
 // Throws hexfem::Error when TetGen fails (naming the intersecting surface triangles and their
 // CAD faces when the surface self-intersects) or when its boundary differs from the input.
+// recover_delaunay: TetGen's Delaunay recovery after the boundary recovery (what "tetgen -pY"
+// does; off by default: it is most of TetGen's time at scale and changes only tets next to the
+// boundary; --tetgen-delaunay-recovery measures it).
 TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& interior_points,
-                       const SolidLocator& locator);
+                       const SolidLocator& locator, bool recover_delaunay = false);
 
 }  // namespace hexfem

@@ -275,7 +275,8 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   r.frontal_points = points.frontal_count;
   r.stages.push_back(timer.lap("volume points"));
 
-  TetMesh tets = tetrahedralize(surface_in, points.points, locator);
+  TetMesh tets =
+      tetrahedralize(surface_in, points.points, locator, options.tetgen_delaunay_recovery);
   r.steiner_points = tets.steiner_points;
   r.tets = tets.tets.size();
   r.stages.push_back(timer.lap("tetgen"));

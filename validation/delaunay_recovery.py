@@ -1,0 +1,90 @@
+#!/usr/bin/python3
+"""What TetGen's Delaunay recovery buys (issue 16): every shared model at h = diagonal / 30 and
+/ 60, meshed with and without --tetgen-delaunay-recovery on the same points. Prints a Markdown
+table (H_nbr, H_vol, NC, mean Q, inverted, TetGen seconds) and the mean of each column.
+
+    /usr/bin/python3 validation/delaunay_recovery.py [--hexfem build/app/hexfem]
+        [--models ../shared/models] [--timeout 600] [--json out.json]
+"""
+import argparse
+import json
+import re
+import statistics
+from pathlib import Path
+
+from study_util import CAD_EXT, run
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def diagonal(hexfem, model, timeout):
+    code, out, _, _ = run([hexfem, "info", str(model)], timeout)
+    if code != 0:
+        return None
+    m = re.search(r"bbox \[([^\]]*)\] - \[([^\]]*)\]", out)
+    lo = [float(x) for x in m.group(1).split()]
+    hi = [float(x) for x in m.group(2).split()]
+    return sum((b - a) ** 2 for a, b in zip(lo, hi)) ** 0.5
+
+
+def mesh(hexfem, model, h, extra, timeout):
+    code, out, err, secs = run(
+        [hexfem, "mesh", str(model), "--h", f"{h:.6g}", "--json", "-o", "/tmp/dr.msh", *extra],
+        timeout)
+    if code != 0:
+        lines = [ln for ln in err.splitlines() if ln.strip()]
+        return {"error": lines[-1] if lines else f"exit {code}"}
+    j = json.loads(out)
+    tetgen = sum(s["seconds"] for s in j["pipeline_stages"] if s.get("stage") == "tetgen")
+    return {"h_nbr": j["h_nbr_percent"], "h_vol": j["h_vol_percent"], "nc": j["nc_percent"],
+            "q": j["q_mean"], "inverted": j["inverted"], "vertices": j["vertices"],
+            "tetgen_s": tetgen, "total_s": j["total_seconds"]}
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--hexfem", default=str(ROOT / "build/app/hexfem"))
+    ap.add_argument("--models", default=str(ROOT.parent / "shared/models"))
+    ap.add_argument("--timeout", type=float, default=600)
+    ap.add_argument("--json")
+    a = ap.parse_args()
+    rows = []
+    for model in sorted(Path(a.models).iterdir()):
+        if model.suffix.lower() not in CAD_EXT:
+            continue
+        d = diagonal(a.hexfem, model, a.timeout)
+        if d is None:
+            continue
+        for div in (30, 60):
+            h = d / div
+            off = mesh(a.hexfem, model, h, [], a.timeout)
+            on = mesh(a.hexfem, model, h, ["--tetgen-delaunay-recovery"], a.timeout)
+            rows.append({"model": model.name, "div": div, "h": h, "off": off, "on": on})
+    print("| model | h | vertices | H_nbr on → off | H_vol on → off | NC on → off | Q on → off |"
+          " inverted off | TetGen s on → off |")
+    print("|---|---:|---:|---|---|---|---|---:|---|")
+    for r in rows:
+        on, off = r["on"], r["off"]
+        if "error" in on or "error" in off:
+            print(f"| {r['model']} | {r['h']:.4g} | — | {on.get('error', 'ok')} / "
+                  f"{off.get('error', 'ok')} | | | | | |")
+            continue
+        print(f"| {r['model']} | {r['h']:.4g} | {off['vertices']} | {on['h_nbr']:.2f} → "
+              f"{off['h_nbr']:.2f} | {on['h_vol']:.2f} → {off['h_vol']:.2f} | {on['nc']:.2f} → "
+              f"{off['nc']:.2f} | {on['q']:.4f} → {off['q']:.4f} | {off['inverted']} | "
+              f"{on['tetgen_s']:.2f} → {off['tetgen_s']:.2f} |")
+    ok = [r for r in rows if "error" not in r["on"] and "error" not in r["off"]]
+    for key in ("h_nbr", "h_vol", "nc", "q"):
+        print(f"- mean {key}: {statistics.mean(r['on'][key] for r in ok):.3f} (on) → "
+              f"{statistics.mean(r['off'][key] for r in ok):.3f} (off), largest drop "
+              f"{max(r['on'][key] - r['off'][key] for r in ok):+.3f}, over {len(ok)} meshes")
+    print(f"- TetGen seconds summed: {sum(r['on']['tetgen_s'] for r in ok):.1f} (on) → "
+          f"{sum(r['off']['tetgen_s'] for r in ok):.1f} (off); inverted (off): "
+          f"{sum(r['off']['inverted'] for r in ok)}; refused: "
+          f"{sum(1 for r in rows if r not in ok)} of {len(rows)} (both ways)")
+    if a.json:
+        Path(a.json).write_text(json.dumps(rows, indent=1))
+
+
+if __name__ == "__main__":
+    main()
