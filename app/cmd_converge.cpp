@@ -24,7 +24,6 @@ struct ConvergeArgs {
   std::string reference;
   std::string output;
   bool json = false;
-  int curvature = 0;
   ConvergeArgs() { modal.modes = 6; }
 };
 
@@ -50,12 +49,9 @@ int run(const ConvergeArgs& a) {
   check_fixed_faces_exist(cad, a.modal.fix);
 
   std::vector<std::pair<std::string, std::string>> solvers;  // per row: path taken, why
+  std::vector<int> curvature;  // per row: the mesh's curvature bound (0 = none)
   for (std::size_t i = 0; i < a.sizes.size(); ++i) {
-    MeshOptions mesh;
-    mesh.surface.h = a.sizes[i];
-    mesh.surface.curvature = a.curvature;
-    parse_size_at(a.modal.size_at, a.sizes[i], mesh.surface.vertex_sizes, mesh.surface.face_sizes);
-    mesh.volume.conformal = a.modal.conformal;
+    const MeshOptions mesh = cad_mesh_options(a.modal, a.sizes[i]);
     std::fprintf(stderr, "converge: run %zu/%zu, h = %g ...\n", i + 1, a.sizes.size(), a.sizes[i]);
     const PartModalResult r = run_part_modal(cad, mesh, modal, a.modal.force, a.modal.order);
     ConvergenceRow row;
@@ -67,9 +63,13 @@ int run(const ConvergeArgs& a) {
     row.seconds = r.mesh_seconds + r.solve_seconds;
     row.frequencies = r.modal.frequencies;
     solvers.emplace_back(r.modal.eigen.method, r.modal.solver_reason);
-    std::fprintf(stderr, "converge: h = %g: %ld cells, H_vol %.2f %%, f1 %.3f Hz (%.1f s, %s)\n",
-                 row.h, row.cells, row.h_vol, row.frequencies.empty() ? 0.0 : row.frequencies[0],
-                 row.seconds, r.modal.solver_reason.c_str());
+    curvature.push_back(r.mesh_report.surface.curvature_used);
+    std::fprintf(stderr,
+                 "converge: h = %g: %ld cells, H_vol %.2f %%, curvature bound %d per turn, f1 %.3f "
+                 "Hz (%.1f s, %s)\n",
+                 row.h, row.cells, row.h_vol, curvature.back(),
+                 row.frequencies.empty() ? 0.0 : row.frequencies[0], row.seconds,
+                 r.modal.solver_reason.c_str());
     study.rows.push_back(std::move(row));
   }
 
@@ -87,6 +87,7 @@ int run(const ConvergeArgs& a) {
     for (std::size_t r = 0; r < study.rows.size(); ++r) {
       j["rows"][r]["solver"] = solvers[r].first;
       j["rows"][r]["solver_reason"] = solvers[r].second;
+      j["rows"][r]["curvature_bound"] = curvature[r];
     }
     for (const auto& f : files) j["files"].push_back(f.string());
     std::printf("%s\n", j.dump(2).c_str());
@@ -95,6 +96,12 @@ int run(const ConvergeArgs& a) {
   std::printf("%s: material '%s', fixed %s; lengths in mm, frequencies in Hz\nelements %s\n",
               study.part.c_str(), modal.material.name.c_str(), a.modal.fix.front().c_str(),
               element_formulations(a.modal.order, modal.incompatible_hex).c_str());
+  if (!curvature.empty() && curvature.front() > 0)
+    std::printf("meshes   curvature bound %d elements per turn on curved edges and faces%s\n",
+                curvature.front(),
+                a.modal.curvature < 0 ? " (the order-2 default, never finer than h/2; "
+                                        "--curvature 0 turns it off)"
+                                      : "");
   std::printf("%s", convergence_text(study).c_str());
   for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
   return 0;
@@ -111,7 +118,6 @@ RegisterCommand reg{
        add_modal_options(sub, a->modal);
        sub.add_option("--reference", a->reference, "JSON with \"reference_hz\": [...]");
        sub.add_option("-o,--output", a->output, "stem of the CSV/Markdown/PNG files");
-       sub.add_option("--curvature", a->curvature, "curvature bound: N elements per 2*pi");
        sub.add_flag("--json", a->json, "print the study as JSON");
        return [a] { return run(*a); };
      }}};

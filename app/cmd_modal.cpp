@@ -30,6 +30,11 @@
 namespace hexfem {
 namespace {
 
+// ", curvature bound N per turn" when the mesh had one (the order-2 default or --curvature).
+std::string curvature_note(int curvature) {
+  return curvature > 0 ? ", curvature bound " + std::to_string(curvature) + " per turn" : "";
+}
+
 struct Args {
   std::string mesh;
   ModalCliOptions modal;  // --fix --material --E --nu --rho --modes --hex8 --force
@@ -131,11 +136,7 @@ int run(const Args& a) {
   PartModalResult part;
   if (cad_input) {
     const CadModel cad = CadModel::read(a.mesh);
-    MeshOptions mesh_options;
-    mesh_options.surface.h = a.h;
-    parse_size_at(a.modal.size_at, a.h, mesh_options.surface.vertex_sizes,
-                  mesh_options.surface.face_sizes);
-    mesh_options.volume.conformal = a.modal.conformal;
+    const MeshOptions mesh_options = cad_mesh_options(a.modal, a.h);
     part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
     mesh = std::move(part.mesh);
     r = std::move(part.modal);
@@ -186,6 +187,7 @@ int run(const Args& a) {
     for (int k = 0; k < kNumCellKinds; ++k) j["mesh"][kind_name(CellKind(k))] = count[k];
     if (cad_input) {
       j["mesh"]["h"] = a.h;
+      j["mesh"]["curvature_bound"] = part.mesh_report.surface.curvature_used;
       j["mesh"]["report"] = part.mesh_report;  // the mesher's report, as `hexfem mesh --json`
       j["mesh"]["mesh_seconds"] = part.mesh_seconds;
       j["mesh"]["peak_memory_bytes"] = part.mesh_peak_bytes;
@@ -219,12 +221,13 @@ int run(const Args& a) {
   std::printf("), %zu non-conformal quad faces\n", mesh.nc_cell.size());
   if (cad_input)
     std::printf(
-        "hexmesh   h = %g mm: H_nbr %.2f %%, H_vol %.2f %%, Q %.3f, NC %.2f %%, inverted %zu, "
+        "hexmesh   h = %g mm%s: H_nbr %.2f %%, H_vol %.2f %%, Q %.3f, NC %.2f %%, inverted %zu, "
         "volume error %+.2e (%.2f s, peak memory %.2f GB)%s%s\n",
-        a.h, part.mesh_report.stats.h_nbr, part.mesh_report.stats.h_vol,
-        part.mesh_report.stats.q_mean, part.mesh_report.stats.nc_percent,
-        part.mesh_report.stats.inverted, part.mesh_report.volume_error, part.mesh_seconds,
-        part.mesh_peak_bytes / 1e9, a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
+        a.h, curvature_note(part.mesh_report.surface.curvature_used).c_str(),
+        part.mesh_report.stats.h_nbr, part.mesh_report.stats.h_vol, part.mesh_report.stats.q_mean,
+        part.mesh_report.stats.nc_percent, part.mesh_report.stats.inverted,
+        part.mesh_report.volume_error, part.mesh_seconds, part.mesh_peak_bytes / 1e9,
+        a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
   std::printf("elements  %s\n", element_formulations(mesh.order, opt.incompatible_hex).c_str());
   if (mesh.order == 2)
     std::printf(

@@ -33,8 +33,30 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
   sub.add_option("--size-at", o.size_at,
                  "CAD input: size at a CAD vertex or face, repeatable: vertex:ID=S | face:ID=S (S "
                  "in mm, or 0.5h: a fraction of --h)");
+  sub.add_option("--curvature", o.curvature,
+                 "CAD input: curvature bound, N elements per 2*pi on curved edges and faces (0 = "
+                 "off). Default: " +
+                     std::to_string(kOrder2Curvature) +
+                     " at order 2 (never finer than h/2 from it), off at order 1");
   sub.add_flag("--force", o.force,
                "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
+}
+
+MeshOptions cad_mesh_options(const ModalCliOptions& o, double h) {
+  if (o.curvature != -1 && (o.curvature < 0 || (o.curvature > 0 && o.curvature < 3)))
+    throw Error("--curvature must be 0 (off) or at least 3 elements per 2*pi (got " +
+                std::to_string(o.curvature) + ")");
+  MeshOptions m;
+  m.surface.h = h;
+  if (o.curvature >= 0) {
+    m.surface.curvature = o.curvature;
+  } else if (o.order == 2) {
+    m.surface.curvature = kOrder2Curvature;
+    m.surface.curvature_min_ratio = kOrder2CurvatureMinRatio;
+  }
+  parse_size_at(o.size_at, h, m.surface.vertex_sizes, m.surface.face_sizes);
+  m.volume.conformal = o.conformal;
+  return m;
 }
 
 ModalOptions modal_options_from(const ModalCliOptions& o) {

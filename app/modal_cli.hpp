@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fem/modal_solver.hpp"
+#include "mesher/pipeline.hpp"
 
 namespace hexfem {
 
@@ -22,6 +23,9 @@ struct ModalCliOptions {
   // Element order: 2 by default for a CAD part (validation/order2.md section 4: it reaches an
   // accurate frequency sooner); a mesh file is solved at its own order unless --order is given.
   int order = 2;
+  // --curvature, CAD input: elements per turn on curved edges and faces; -1 (not given) is the
+  // order's default: kOrder2Curvature at order 2, none at order 1.
+  int curvature = -1;
   CLI::Option* order_given = nullptr;
   CLI::Option* hex8_given = nullptr;
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;
@@ -34,6 +38,18 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o);
 // Checks every value (material and its overrides finite and physical, --modes >= 1, --hex8, the
 // syntax of each --fix) and returns the solver's options (length_scale left at 1).
 ModalOptions modal_options_from(const ModalCliOptions& o);
+
+// At order 2 a CAD part is meshed by default with this curvature bound (elements per turn), never
+// finer than kOrder2CurvatureMinRatio * h. The steel part's R3 fillet, where the bending stress
+// peaks, otherwise holds most of the error at h = 2 (f1 +0.176 % -> +0.095 % for 26 % more nodes;
+// validation/order2.md section 3); the floor keeps parts with many small fillets from growing
+// more than a few times in DOF.
+inline constexpr int kOrder2Curvature = 12;
+inline constexpr double kOrder2CurvatureMinRatio = 0.5;
+
+// The mesh options of a CAD part at size h from the shared options: --size-at, --conformal and
+// --curvature (or the order's default). Throws hexfem::Error on a bad --size-at or --curvature.
+MeshOptions cad_mesh_options(const ModalCliOptions& o, double h);
 
 // --hex8 chooses the order-1 hexahedron; given for an order-2 solve it would be ignored in
 // silence, so it is an error naming --order 1. Throws hexfem::Error.

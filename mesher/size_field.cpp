@@ -14,7 +14,7 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
     : cad_(cad),
       h_(options.h),
       curvature_(options.curvature),
-      face_sizes_(!options.face_sizes.empty()) {
+      graded_(!options.face_sizes.empty()) {
   if (!(h_ > 0) || !std::isfinite(h_))
     throw Error("the mesh size h must be > 0 (got " + std::to_string(h_) + ")");
   if (curvature_ < 0) throw Error("--curvature must be >= 0 elements per 2*pi");
@@ -22,7 +22,8 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
     throw Error("--curvature must be at least 3 elements per 2*pi");
   vertex_size_.assign(static_cast<std::size_t>(cad.num_vertices()), h_);
   floor_ = h_ * options.min_ratio;
-  h_min_ = curvature_ > 0 ? floor_ : h_;
+  curvature_floor_ = h_ * std::max(options.min_ratio, options.curvature_min_ratio);
+  h_min_ = curvature_ > 0 ? curvature_floor_ : h_;
   // Below the smallest size the edge points no longer grade away from the vertex in a few dozen
   // steps (1e-7 on the steel part: 16,000 edge points, 28 s; 1e-9 ran for minutes).
   const double smallest = kMinRelativeSize * cad.bbox().diagonal();
@@ -49,7 +50,7 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
     h_min_ = std::min(h_min_, s);
   }
   constexpr double kNone = std::numeric_limits<double>::infinity();
-  face_vertex_size_.assign(vertex_size_.size(), kNone);
+  graded_vertex_size_.assign(vertex_size_.size(), kNone);
   face_edge_size_.assign(static_cast<std::size_t>(cad.num_edges()), kNone);
   for (const auto& [f, s] : options.face_sizes) {
     if (f < 1 || f > cad.num_faces())
@@ -62,7 +63,7 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
       es = std::min(es, s);
       for (int v : cad.edge_vertices(ce.edge))
         if (v > 0) {
-          auto& vs = face_vertex_size_[static_cast<std::size_t>(v - 1)];
+          auto& vs = graded_vertex_size_[static_cast<std::size_t>(v - 1)];
           vs = std::min(vs, s);
         }
     }
@@ -76,10 +77,13 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
         uses.emplace_back(f, static_cast<int>(c));
     }
   }
-  // A vertex takes the curvature bound of the edges and faces around it, so that the 1D
-  // interpolation along every edge leaving it (a straight seam below a small fillet) starts
-  // from the size its neighbourhood asks for.
+  // A vertex takes the curvature bound of the edges and faces around it, so that every edge
+  // leaving it (a straight seam below a small fillet) starts from the size its neighbourhood
+  // asks for and grows back at kFaceSizeGrading, like a --size-at face. (Interpolating it
+  // linearly along the edge, as before, spread a fillet's size along whole straight edges: at
+  // --curvature 12 the shared models at diagonal/30 had 1.0-7.1x the vertices.)
   if (curvature_ > 0) {
+    graded_ = true;
     std::vector<double> bound(vertex_size_.size(), std::numeric_limits<double>::infinity());
     for (int e = 1; e <= cad.num_edges(); ++e) {
       if (cad.edge_degenerate(e)) continue;
@@ -95,13 +99,13 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
       }
     }
     for (std::size_t v = 0; v < vertex_size_.size(); ++v)
-      vertex_size_[v] = std::min(vertex_size_[v], bound[v]);
+      graded_vertex_size_[v] = std::min(graded_vertex_size_[v], bound[v]);
   }
 }
 
 double SizeField::curvature_bound(double kappa) const {
   if (curvature_ <= 0 || !(kappa > 0)) return std::numeric_limits<double>::infinity();
-  return std::max(2 * std::numbers::pi / (curvature_ * kappa), floor_);
+  return std::max(2 * std::numbers::pi / (curvature_ * kappa), curvature_floor_);
 }
 
 double SizeField::surface_bound(int f, Vec2 uv) const {
@@ -121,14 +125,14 @@ double SizeField::edge_size(int e, double t, double s) const {
     for (const auto& [f, c] : edge_uses_[static_cast<std::size_t>(e - 1)])
       size = std::min(size, surface_bound(f, cad_.coedge_uv(f, c, t)));
   }
-  if (face_sizes_) {
+  if (graded_) {
     size = std::min(size, face_edge_size_[static_cast<std::size_t>(e - 1)]);
     const double length = cad_.edge_length(e);
     if (v0 > 0)
-      size = std::min(size, face_vertex_size_[static_cast<std::size_t>(v0 - 1)] +
+      size = std::min(size, graded_vertex_size_[static_cast<std::size_t>(v0 - 1)] +
                                 kFaceSizeGrading * s * length);
     if (v1 > 0)
-      size = std::min(size, face_vertex_size_[static_cast<std::size_t>(v1 - 1)] +
+      size = std::min(size, graded_vertex_size_[static_cast<std::size_t>(v1 - 1)] +
                                 kFaceSizeGrading * (1 - s) * length);
   }
   return size;

@@ -1,7 +1,8 @@
 // Stage 1 of the surface mesher: the size field. A global size h, optional sizes at CAD
 // vertices and faces, and a curvature bound (N elements per 2*pi of turning). Vertex sizes spread
-// along edges by 1D interpolation in arc length (paper, "Cross fields"); faces get theirs from a
-// Laplace solve with the edge sizes as Dirichlet data (cross_field.cpp, same background mesh).
+// along edges by 1D interpolation in arc length (paper, "Cross fields"); sizes from faces and from
+// the curvature bound grow back from the vertex at kFaceSizeGrading instead; faces get theirs from
+// a Laplace solve with the edge sizes as Dirichlet data (cross_field.cpp, same background mesh).
 //
 // Takes: the CAD model and SurfaceOptions (h, curvature, vertex sizes).
 // Gives: a size at every point of every edge and a bound per face.
@@ -34,6 +35,10 @@ struct SizeOptions {
   // The curvature bound never goes below h * min_ratio (a tiny fillet radius would otherwise
   // ask for an unbounded number of points).
   double min_ratio = 0.05;
+  // When larger than min_ratio: the curvature bound alone stops at h * curvature_min_ratio (the
+  // default of modal and converge, which refine curved faces at most this much; min_ratio still
+  // bounds the sizes for narrow faces).
+  double curvature_min_ratio = 0;
 };
 
 class SizeField {
@@ -47,7 +52,7 @@ class SizeField {
   double floor() const { return floor_; }
   double vertex_size(int v) const {
     const auto i = static_cast<std::size_t>(v - 1);
-    return std::min(vertex_size_[i], face_vertex_size_[i]);
+    return std::min(vertex_size_[i], graded_vertex_size_[i]);
   }
   // The size bound from a curvature kappa (infinite when the bound is off or kappa = 0).
   double curvature_bound(double kappa) const;
@@ -61,13 +66,16 @@ class SizeField {
  private:
   const CadModel& cad_;
   double h_;
-  double h_min_;  // smallest size anywhere (curvature floor or a vertex size)
-  double floor_;  // smallest size the curvature bound may ask for
+  double h_min_;            // smallest size anywhere (curvature floor or a vertex size)
+  double floor_;            // smallest size any automatic bound may ask for
+  double curvature_floor_;  // smallest size the curvature bound may ask for (>= floor_)
   int curvature_;
-  bool face_sizes_;                       // any --size-at face given
-  std::vector<double> vertex_size_;       // global, curvature and --size-at vertex sizes
-  std::vector<double> face_vertex_size_;  // the smallest --size-at face size around the vertex
-  std::vector<double> face_edge_size_;    // the same for the edge (infinite when none)
+  bool graded_;  // any --size-at face or curvature bound: graded_vertex_size_ is used
+  std::vector<double> vertex_size_;  // global and --size-at vertex sizes (interpolated along edges)
+  // The smallest --size-at face size or curvature bound around the vertex: edges leaving it grow
+  // from it at kFaceSizeGrading per mm (infinite when none).
+  std::vector<double> graded_vertex_size_;
+  std::vector<double> face_edge_size_;  // the same for the edge (infinite when none)
   // For each edge, the faces it bounds with one coedge index in each (for the pcurve).
   std::vector<std::vector<std::pair<int, int>>> edge_uses_;
 };

@@ -51,6 +51,7 @@ SizeOptions size_options(const SurfaceOptions& o) {
   SizeOptions s;
   s.h = o.h;
   s.curvature = o.curvature;
+  s.curvature_min_ratio = o.curvature_min_ratio;
   s.vertex_sizes = o.vertex_sizes;
   s.face_sizes = o.face_sizes;
   return s;

@@ -17,8 +17,9 @@
 namespace hexfem {
 
 struct SurfaceOptions {
-  double h = 1.0;                                    // target size, mm
-  int curvature = 0;                                 // elements per 2*pi, 0 = off
+  double h = 1.0;                  // target size, mm
+  int curvature = 0;               // elements per 2*pi, 0 = off
+  double curvature_min_ratio = 0;  // the curvature bound stops at h * this (SizeOptions)
   std::vector<std::pair<int, double>> vertex_sizes;  // (CAD vertex id, size)
   std::vector<std::pair<int, double>> face_sizes;    // (CAD face id, size)
   double k = 0.7;                                    // packing exclusion factor (paper: 0.7)

@@ -35,7 +35,7 @@ def mesh(hexfem, model, h, extra, timeout):
         lines = [ln for ln in err.splitlines() if ln.strip()]
         return {"error": lines[-1] if lines else f"exit {code}"}
     j = json.loads(out)
-    tetgen = sum(s["seconds"] for s in j["pipeline_stages"] if s.get("stage") == "tetgen")
+    tetgen = sum(s["seconds"] for s in j["pipeline_stages"] if "tetgen" in s.get("name", ""))
     return {"h_nbr": j["h_nbr_percent"], "h_vol": j["h_vol_percent"], "nc": j["nc_percent"],
             "q": j["q_mean"], "inverted": j["inverted"], "vertices": j["vertices"],
             "tetgen_s": tetgen, "total_s": j["total_seconds"]}

@@ -31,7 +31,8 @@ TEST(Order2Modal, SteelPartAtH2BoundsTheReferenceWithinAQuarterPercent) {
   const nlohmann::json ref = nlohmann::json::parse(ref_in);
   int code = 0;
   const std::string out =
-      run("modal " + src + "/models/steel_part.step --h 2 --fix face:8 --modes 4 --order 2 --json",
+      run("modal " + src +
+              "/models/steel_part.step --h 2 --fix face:8 --modes 4 --order 2 --curvature 0 --json",
           &code);
   ASSERT_EQ(code, 0) << out;
   const nlohmann::json j = nlohmann::json::parse(out.substr(out.find('{')));
@@ -50,6 +51,40 @@ TEST(Order2Modal, SteelPartAtH2BoundsTheReferenceWithinAQuarterPercent) {
     EXPECT_GT(f / fr - 1, -unc) << "f" << m + 1 << " " << f << " vs " << fr;
     EXPECT_LT(f / fr - 1, 2.5e-3) << "f" << m + 1 << " " << f << " vs " << fr;
   }
+}
+
+// The order-2 default meshes curved faces with 12 elements per turn (never finer than h/2): on the
+// steel part that refines the R3 fillet at the step, where the bending stress peaks, and brings
+// f1 and f2 at h = 2 within the 0.1 % of issue 12 (+0.176 % and +0.097 % without it), still from
+// above. The reference: Gmsh tet10 + CalculiX, Richardson-extrapolated.
+TEST(Order2Modal, SteelPartAtH2IsWithinATenthOfAPercentWithTheDefaultCurvatureBound) {
+  const std::string src = HEXFEM_SOURCE_DIR;
+  std::ifstream ref_in(src + "/validation/reference/steel_part.json");
+  const nlohmann::json ref = nlohmann::json::parse(ref_in);
+  int code = 0;
+  const std::string out =
+      run("modal " + src + "/models/steel_part.step --h 2 --fix face:8 --modes 2 --json", &code);
+  ASSERT_EQ(code, 0) << out;
+  const nlohmann::json j = nlohmann::json::parse(out.substr(out.find('{')));
+  EXPECT_EQ(j["order"], 2);
+  EXPECT_EQ(j["mesh"]["curvature_bound"], 12);
+  for (int m = 0; m < 2; ++m) {
+    const double f = j["modes"][m]["frequency_hz"], fr = ref["reference_hz"][m],
+                 unc = ref["reference_uncertainty_rel"][m];
+    EXPECT_GT(f / fr - 1, -unc) << "f" << m + 1 << " " << f << " vs " << fr;
+    EXPECT_LT(f / fr - 1, 1e-3) << "f" << m + 1 << " " << f << " vs " << fr;
+  }
+  // --curvature 0 turns the bound off; a bound below 3 per turn is refused in one line.
+  const std::string off = run("modal " + src +
+                                  "/models/steel_part.step --h 4 --fix face:8 --modes 1 "
+                                  "--curvature 0 --json",
+                              &code);
+  ASSERT_EQ(code, 0) << off;
+  EXPECT_EQ(nlohmann::json::parse(off.substr(off.find('{')))["mesh"]["curvature_bound"], 0);
+  const std::string bad =
+      run("modal " + src + "/models/steel_part.step --h 4 --fix face:8 --curvature 2", &code);
+  EXPECT_NE(code, 0);
+  EXPECT_NE(bad.find("--curvature must be 0 (off) or at least 3"), std::string::npos) << bad;
 }
 
 // The cylinder at h = 2, against the graded C3D20 O-grid reference of validation/order2.md
