@@ -1,6 +1,7 @@
 // hexfem converge part.step --h 2,1,0.5 --fix face:8 [--reference ref.json]: the paper's Table 2.
 // Meshes and solves the part at each size, then prints and writes the table (CSV, Markdown) with
 // errors against the reference, the observed order, and a log-log plot of error versus h.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -96,12 +97,21 @@ int run(const ConvergeArgs& a) {
   std::printf("%s: material '%s', fixed %s; lengths in mm, frequencies in Hz\nelements %s\n",
               study.part.c_str(), modal.material.name.c_str(), a.modal.fix.front().c_str(),
               element_formulations(a.modal.order, modal.incompatible_hex).c_str());
-  if (!curvature.empty() && curvature.front() > 0)
+  // One bound for every row, or the rows' own (the mesher's retries may raise it for one h).
+  const bool same_bound = std::all_of(curvature.begin(), curvature.end(),
+                                      [&](int c) { return c == curvature.front(); });
+  std::string bounds;
+  for (int c : curvature) bounds += (bounds.empty() ? "" : ", ") + std::to_string(c);
+  const char* origin = a.modal.curvature < 0 ? " (the order-2 default, never finer than h/2; "
+                                               "--curvature 0 turns it off)"
+                                             : "";
+  if (!curvature.empty() && same_bound && curvature.front() > 0)
     std::printf("meshes   curvature bound %d elements per turn on curved edges and faces%s\n",
-                curvature.front(),
-                a.modal.curvature < 0 ? " (the order-2 default, never finer than h/2; "
-                                        "--curvature 0 turns it off)"
-                                      : "");
+                curvature.front(), origin);
+  else if (!same_bound)
+    std::printf("meshes   curvature bound per h, elements per turn on curved edges and faces (0 = "
+                "none): %s%s\n",
+                bounds.c_str(), origin);
   std::printf("%s", convergence_text(study).c_str());
   for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
   return 0;

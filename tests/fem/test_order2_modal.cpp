@@ -22,13 +22,25 @@ std::string run(const std::string& args, int* code) {
   return out;
 }
 
+// Each of the first `modes` frequencies of a modal JSON against the steel part's reference
+// (validation/reference/steel_part.json): not below it by more than its uncertainty, above it by
+// less than max_rel.
+void expect_steel_reference(const nlohmann::json& j, int modes, double max_rel) {
+  std::ifstream ref_in(std::string(HEXFEM_SOURCE_DIR) + "/validation/reference/steel_part.json");
+  const nlohmann::json ref = nlohmann::json::parse(ref_in);
+  for (int m = 0; m < modes; ++m) {
+    const double f = j["modes"][m]["frequency_hz"], fr = ref["reference_hz"][m],
+                 unc = ref["reference_uncertainty_rel"][m];
+    EXPECT_GT(f / fr - 1, -unc) << "f" << m + 1 << " " << f << " vs " << fr;
+    EXPECT_LT(f / fr - 1, max_rel) << "f" << m + 1 << " " << f << " vs " << fr;
+  }
+}
+
 // With the NC faces' hanging nodes on their quads (place_hanging_nodes_on_quads) the order-2 mesh
 // is nearly conforming, so its frequencies bound the reference from above: before, nodes left
 // off the twisted quads made f3 0.078 % low at h = 2, below the reference's uncertainty.
 TEST(Order2Modal, SteelPartAtH2BoundsTheReferenceWithinAQuarterPercent) {
   const std::string src = HEXFEM_SOURCE_DIR;
-  std::ifstream ref_in(src + "/validation/reference/steel_part.json");
-  const nlohmann::json ref = nlohmann::json::parse(ref_in);
   int code = 0;
   const std::string out =
       run("modal " + src +
@@ -45,12 +57,7 @@ TEST(Order2Modal, SteelPartAtH2BoundsTheReferenceWithinAQuarterPercent) {
   const double mesh_peak = j["mesh"]["peak_memory_bytes"];
   EXPECT_GT(mesh_peak, 1e6);
   EXPECT_LE(mesh_peak, j["solver"]["peak_memory_bytes"].get<double>());
-  for (int m = 0; m < 4; ++m) {
-    const double f = j["modes"][m]["frequency_hz"], fr = ref["reference_hz"][m],
-                 unc = ref["reference_uncertainty_rel"][m];
-    EXPECT_GT(f / fr - 1, -unc) << "f" << m + 1 << " " << f << " vs " << fr;
-    EXPECT_LT(f / fr - 1, 2.5e-3) << "f" << m + 1 << " " << f << " vs " << fr;
-  }
+  expect_steel_reference(j, 4, 2.5e-3);
 }
 
 // The order-2 default meshes curved faces with 12 elements per turn (never finer than h/2): on the
@@ -59,8 +66,6 @@ TEST(Order2Modal, SteelPartAtH2BoundsTheReferenceWithinAQuarterPercent) {
 // above. The reference: Gmsh tet10 + CalculiX, Richardson-extrapolated.
 TEST(Order2Modal, SteelPartAtH2IsWithinATenthOfAPercentWithTheDefaultCurvatureBound) {
   const std::string src = HEXFEM_SOURCE_DIR;
-  std::ifstream ref_in(src + "/validation/reference/steel_part.json");
-  const nlohmann::json ref = nlohmann::json::parse(ref_in);
   int code = 0;
   const std::string out =
       run("modal " + src + "/models/steel_part.step --h 2 --fix face:8 --modes 2 --json", &code);
@@ -68,12 +73,7 @@ TEST(Order2Modal, SteelPartAtH2IsWithinATenthOfAPercentWithTheDefaultCurvatureBo
   const nlohmann::json j = nlohmann::json::parse(out.substr(out.find('{')));
   EXPECT_EQ(j["order"], 2);
   EXPECT_EQ(j["mesh"]["curvature_bound"], 12);
-  for (int m = 0; m < 2; ++m) {
-    const double f = j["modes"][m]["frequency_hz"], fr = ref["reference_hz"][m],
-                 unc = ref["reference_uncertainty_rel"][m];
-    EXPECT_GT(f / fr - 1, -unc) << "f" << m + 1 << " " << f << " vs " << fr;
-    EXPECT_LT(f / fr - 1, 1e-3) << "f" << m + 1 << " " << f << " vs " << fr;
-  }
+  expect_steel_reference(j, 2, 1e-3);
   // --curvature 0 turns the bound off; a bound below 3 per turn is refused in one line.
   const std::string off = run("modal " + src +
                                   "/models/steel_part.step --h 4 --fix face:8 --modes 1 "
