@@ -302,7 +302,9 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
   }
 
   // Tets, positively oriented; then regions: flood fill across faces that are not surface
-  // triangles, each region classified by its first tet's centroid (drops inner voids).
+  // triangles, each region classified by the centroid of its largest tet (drops inner voids).
+  // Not the first tet's: without the Delaunay recovery that may be a flat tet on a curved face,
+  // its centroid on the wrong side of the chords (Torus_1, relaxed points: the solid dropped).
   const std::size_t ntet = out.tets.size() / 4;
   std::vector<std::array<std::int32_t, 4>> tets(ntet);
   for (std::size_t t = 0; t < ntet; ++t) {
@@ -312,20 +314,26 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
       std::swap(T[2], T[3]);
   }
   std::vector<std::int32_t> region(ntet, -1);
-  std::vector<int> region_solid;
+  std::vector<std::size_t> region_largest;  // per region: its tet of largest volume
   std::vector<std::size_t> stack;
+  auto volume6 = [&](std::size_t t) {
+    return orient(mesh.nodes[tets[t][0]], mesh.nodes[tets[t][1]], mesh.nodes[tets[t][2]],
+                  mesh.nodes[tets[t][3]]);
+  };
   for (std::size_t seed = 0; seed < ntet; ++seed) {
     if (region[seed] >= 0) continue;
-    const auto r = static_cast<std::int32_t>(region_solid.size());
-    Vec3 c{0, 0, 0};
-    for (int i = 0; i < 4; ++i)
-      for (int a = 0; a < 3; ++a) c[a] += 0.25 * mesh.nodes[tets[seed][i]][a];
-    region_solid.push_back(locator.locate(c));
+    const auto r = static_cast<std::int32_t>(region_largest.size());
+    region_largest.push_back(seed);
+    double largest = volume6(seed);
     region[seed] = r;
     stack.assign(1, seed);
     while (!stack.empty()) {
       const std::size_t t = stack.back();
       stack.pop_back();
+      if (const double v = volume6(t); v > largest) {
+        largest = v;
+        region_largest[r] = t;
+      }
       for (int i = 0; i < 4; ++i) {
         const int nb = out.neighbors[4 * t + i];
         if (nb < 0 || region[nb] >= 0) continue;
@@ -345,6 +353,13 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
       }
     }
   }
+  std::vector<int> region_solid(region_largest.size());
+  for (std::size_t r = 0; r < region_largest.size(); ++r) {
+    Vec3 c{0, 0, 0};
+    for (int i = 0; i < 4; ++i)
+      for (int a = 0; a < 3; ++a) c[a] += 0.25 * mesh.nodes[tets[region_largest[r]][i]][a];
+    region_solid[r] = locator.locate(c);
+  }
   for (std::size_t t = 0; t < ntet; ++t) {
     const int s = region_solid[region[t]];
     if (s == 0) {
@@ -354,6 +369,9 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
     mesh.tets.push_back(tets[t]);
     mesh.tet_solid.push_back(s);
   }
+  if (mesh.tets.empty())
+    throw Error("TetGen's tets all lie outside the solids (" + std::to_string(ntet) +
+                " tets, none inside)");
   return mesh;
 }
 
