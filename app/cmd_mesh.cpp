@@ -184,6 +184,10 @@ RegisterCommand reg{
        sub.add_flag("--smooth-frame", a->volume.smooth_frame,
                     "interior points take the frame of a smooth field, the surface frames "
                     "extended harmonically over a grid (study)");
+       sub.add_option("--relax-points", a->volume.relax_points,
+                      "Jacobi sweeps moving each interior point towards its lattice neighbours "
+                      "after the frontal insertion (study)")
+           ->check(CLI::Range(0, 1000));
        sub.add_flag("--tetgen-delaunay-recovery", a->volume.tetgen_delaunay_recovery,
                     "let TetGen make the faces next to the boundary Delaunay again after "
                     "recovering it (tetgen -pY; slower at scale; study)");

@@ -62,6 +62,7 @@ VolumePoints insert_points(const SurfaceMesh& surface, const FrameField3D& field
   po.jitter = o.jitter;
   po.inherit_frame = o.inherit_frame;
   po.smooth_frame = o.smooth_frame;
+  po.relax_iterations = o.relax_points;
   return insert_volume_points(surface, field, locator, po);
 }
 

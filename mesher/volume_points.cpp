@@ -55,6 +55,25 @@ class Cloud {
     }
     return false;
   }
+  // The same test, ignoring point `self`.
+  bool excluded_other(const Vec3& c, const Frame& f, double r, std::int32_t self) const {
+    Vec3 lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      const double ext = r * (std::abs(f[0][a]) + std::abs(f[1][a]) + std::abs(f[2][a]));
+      lo[a] = c[a] - ext;
+      hi[a] = c[a] + ext;
+    }
+    for (auto it = tree_.qbegin(bgi::intersects(RBox(rp(lo), rp(hi)))); it != tree_.qend(); ++it) {
+      if (it->second == self) continue;
+      const Vec3& x = points_[it->second];
+      const Vec3 d{x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+      bool inside = true;
+      for (int i = 0; i < 3 && inside; ++i)
+        inside = std::abs(f[i][0] * d[0] + f[i][1] * d[1] + f[i][2] * d[2]) < r;
+      if (inside) return true;
+    }
+    return false;
+  }
   std::int32_t add(const Vec3& p) {
     const auto id = static_cast<std::int32_t>(points_.size());
     points_.push_back(p);
@@ -63,11 +82,151 @@ class Cloud {
   }
   const Vec3& point(std::int32_t i) const { return points_[i]; }
   std::size_t size() const { return points_.size(); }
+  // Calls f(id) for every point in the axis-aligned box [lo, hi].
+  template <class F>
+  void for_each_in_box(const Vec3& lo, const Vec3& hi, F&& f) const {
+    for (auto it = tree_.qbegin(bgi::intersects(RBox(rp(lo), rp(hi)))); it != tree_.qend(); ++it)
+      f(it->second);
+  }
 
  private:
   std::vector<Vec3> points_;
   RTree tree_;
 };
+
+// Lattice relaxation of the interior points (--relax-points N). Each interior point finds its
+// six lattice neighbours: the point nearest to x +- h d_i in its frame's L-infinity distance,
+// within kRelaxTolerance h. Jacobi sweeps then move it towards the mean of what its neighbours
+// imply: the midpoint of the two neighbours of an axis that has both (so a stretched or sheared
+// seam where two fronts met spreads over the layers around it), and, along an axis with one
+// neighbour only, the neighbour's offset across that axis (tangential alignment, spacing kept).
+// The neighbours are found once (found again every few sweeps, points collapsed onto each
+// other). Surface points stay. A point that would end within k h of the boundary, or across it,
+// keeps its place.
+constexpr double kRelaxTolerance = 0.45;  // a neighbour within 0.45 h of x +- h d_i
+constexpr double kRelaxStep = 0.5;        // Jacobi damping
+
+std::vector<std::array<std::int32_t, 6>> lattice_neighbours(const std::vector<Vec3>& x,
+                                                            std::size_t ns,
+                                                            const std::vector<Frame>& frame,
+                                                            const std::vector<double>& size,
+                                                            double tol) {
+  const Cloud cloud(x);
+  const std::size_t ni = x.size() - ns;
+  std::vector<std::array<std::int32_t, 6>> nb(ni);
+  const auto nni = static_cast<std::ptrdiff_t>(ni);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t i = 0; i < nni; ++i) {
+    const auto p = static_cast<std::int32_t>(ns + i);
+    const Vec3& c = x[p];
+    const Frame& f = frame[p];
+    const double h = size[p];
+    std::array<double, 6> best;
+    best.fill(tol);
+    nb[i].fill(-1);
+    Vec3 lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      const double ext =
+          (1 + tol) * h * (std::abs(f[0][a]) + std::abs(f[1][a]) + std::abs(f[2][a]));
+      lo[a] = c[a] - ext;
+      hi[a] = c[a] + ext;
+    }
+    cloud.for_each_in_box(lo, hi, [&](std::int32_t q) {
+      if (q == p) return;
+      const Vec3& y = x[q];
+      const Vec3 d{y[0] - c[0], y[1] - c[1], y[2] - c[2]};
+      std::array<double, 3> u;
+      for (int a = 0; a < 3; ++a) u[a] = (f[a][0] * d[0] + f[a][1] * d[1] + f[a][2] * d[2]) / h;
+      for (int a = 0; a < 3; ++a) {
+        const double s = u[a] > 0 ? 1.0 : -1.0;
+        const double err = std::max(
+            {std::abs(u[a] - s), std::abs(u[(a + 1) % 3]), std::abs(u[(a + 2) % 3])});
+        const int slot = 2 * a + (s > 0 ? 0 : 1);
+        if (err < best[slot] || (err == best[slot] && q < nb[i][slot])) {
+          best[slot] = err;
+          nb[i][slot] = q;
+        }
+      }
+    });
+  }
+  return nb;
+}
+
+void relax_lattice(std::vector<Vec3> cur, std::size_t ns, const std::vector<Frame>& frame,
+                   const std::vector<double>& size, const std::vector<std::int32_t>& solid,
+                   const SolidLocator& locator, double k, int iterations, VolumePoints& out) {
+  const std::size_t ni = out.points.size();
+  if (iterations <= 0 || ni == 0) return;
+  const auto nni = static_cast<std::ptrdiff_t>(ni);
+  const std::vector<std::array<std::int32_t, 6>> nb =
+      lattice_neighbours(cur, ns, frame, size, kRelaxTolerance);
+  std::vector<Vec3> next;
+  for (int it = 0; it < iterations; ++it) {
+    next = cur;
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < nni; ++i) {
+      const std::size_t p = ns + i;
+      const Frame& f = frame[p];
+      Vec3 acc{0, 0, 0};
+      int cnt = 0;
+      for (int a = 0; a < 3; ++a) {
+        const std::int32_t qp = nb[i][2 * a], qm = nb[i][2 * a + 1];
+        Vec3 delta;
+        if (qp >= 0 && qm >= 0) {
+          for (int c = 0; c < 3; ++c) delta[c] = 0.5 * (cur[qp][c] + cur[qm][c]) - cur[p][c];
+        } else if (qp >= 0 || qm >= 0) {
+          const std::int32_t q = qp >= 0 ? qp : qm;
+          const double s = qp >= 0 ? 1.0 : -1.0;
+          const double h = 0.5 * (size[p] + size[q]);
+          for (int c = 0; c < 3; ++c) delta[c] = cur[q][c] - s * h * f[a][c] - cur[p][c];
+          const double along = delta[0] * f[a][0] + delta[1] * f[a][1] + delta[2] * f[a][2];
+          for (int c = 0; c < 3; ++c) delta[c] -= along * f[a][c];
+        } else {
+          continue;
+        }
+        for (int c = 0; c < 3; ++c) acc[c] += delta[c];
+        ++cnt;
+      }
+      if (cnt == 0) continue;
+      for (int c = 0; c < 3; ++c) next[p][c] = cur[p][c] + kRelaxStep * acc[c] / cnt;
+    }
+    std::swap(cur, next);
+  }
+  // Each point's move is kept when it stays inside and at least k h from the boundary. (Moves
+  // capped at h/2 or h kept fewer hexes: the gains come from points that travel further.)
+  std::vector<char> moved(ni, 0);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t i = 0; i < nni; ++i) {
+    const std::size_t p = ns + i;
+    const Vec3& from = out.points[i];
+    const Vec3& to = cur[p];
+    const int s = solid[p];
+    moved[i] = !locator.near_boundary(s, to, k * size[p]) &&
+               !locator.segment_hits_boundary(s, from, to);
+  }
+  // No two points closer than k h / 2 in a frame's L-infinity distance (the insertion kept k h):
+  // moved points in such a pair go back, until none is left. The insertion's own points keep
+  // k h between them, so this ends, at worst with every point back.
+  for (int round = 0; round < 8; ++round) {
+    for (std::ptrdiff_t i = 0; i < nni; ++i) cur[ns + i] = moved[i] ? cur[ns + i] : out.points[i];
+    const Cloud cloud(cur);
+    std::vector<char> back(ni, 0);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t i = 0; i < nni; ++i)
+      if (moved[i]) back[i] = cloud.excluded_other(cur[ns + i], frame[ns + i],
+                                                   0.5 * k * size[ns + i],
+                                                   static_cast<std::int32_t>(ns + i));
+    bool any = false;
+    for (std::size_t i = 0; i < ni; ++i)
+      if (back[i]) {
+        moved[i] = 0;
+        any = true;
+      }
+    if (!any) break;
+  }
+  for (std::size_t i = 0; i < ni; ++i)
+    if (moved[i]) out.points[i] = cur[ns + i];
+}
 
 struct Candidate {
   Vec3 pos;
@@ -80,7 +239,7 @@ struct Candidate {
 // smooth: when given, every point's frame is the smooth field's at its position.
 VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
                      const SolidLocator& locator, double k, bool inherit_frame,
-                     const SmoothFrameField* smooth) {
+                     const SmoothFrameField* smooth, int relax_iterations) {
   const std::size_t ns = surface.mesh.nodes.size();
   Cloud cloud(surface.mesh.nodes);
   // Per cloud point: its size, its frame, and its solid (0 = surface).
@@ -188,6 +347,11 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
     }
     head = end;
   }
+  if (relax_iterations > 0) {
+    std::vector<Vec3> all(cloud.size());
+    for (std::size_t v = 0; v < all.size(); ++v) all[v] = cloud.point(static_cast<std::int32_t>(v));
+    relax_lattice(std::move(all), ns, frame, size, solid, locator, k, relax_iterations, out);
+  }
   return out;
 }
 
@@ -264,14 +428,16 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
     smooth = std::make_unique<SmoothFrameField>(surface, field, locator, options.smooth);
   if (!options.random) {
     VolumePoints out =
-        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get());
+        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(),
+                options.relax_iterations);
     jitter_points(out, field, options.jitter);
     return out;
   }
   std::size_t target = options.random_count;
   std::size_t frontal_count = 0;
   if (target == 0) {
-    frontal_count = frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get())
+    frontal_count = frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(),
+                options.relax_iterations)
                         .points.size();
     target = frontal_count;
   }

@@ -44,6 +44,8 @@ struct VolumePointsOptions {
   // from the surface frames; overrides inherit_frame. Off by default (issue 16 study).
   bool smooth_frame = false;
   SmoothFrameOptions smooth;
+  // Jacobi sweeps of the lattice relaxation after the frontal insertion (0: none; study).
+  int relax_iterations = 0;
 };
 
 struct VolumePoints {
