@@ -109,9 +109,10 @@ int run(const ConvergeArgs& a) {
     std::printf("meshes   curvature bound %d elements per turn on curved edges and faces%s\n",
                 curvature.front(), origin);
   else if (!same_bound)
-    std::printf("meshes   curvature bound per h, elements per turn on curved edges and faces (0 = "
-                "none): %s%s\n",
-                bounds.c_str(), origin);
+    std::printf(
+        "meshes   curvature bound per h, elements per turn on curved edges and faces (0 = "
+        "none): %s%s\n",
+        bounds.c_str(), origin);
   std::printf("%s", convergence_text(study).c_str());
   for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
   return 0;

@@ -39,23 +39,9 @@ class Cloud {
   }
   // True when an existing point x has max_i |F_i . (x - c)| < r.
   bool excluded(const Vec3& c, const Frame& f, double r) const {
-    Vec3 lo, hi;
-    for (int a = 0; a < 3; ++a) {
-      const double ext = r * (std::abs(f[0][a]) + std::abs(f[1][a]) + std::abs(f[2][a]));
-      lo[a] = c[a] - ext;
-      hi[a] = c[a] + ext;
-    }
-    for (auto it = tree_.qbegin(bgi::intersects(RBox(rp(lo), rp(hi)))); it != tree_.qend(); ++it) {
-      const Vec3& x = points_[it->second];
-      const Vec3 d{x[0] - c[0], x[1] - c[1], x[2] - c[2]};
-      bool inside = true;
-      for (int i = 0; i < 3 && inside; ++i)
-        inside = std::abs(f[i][0] * d[0] + f[i][1] * d[1] + f[i][2] * d[2]) < r;
-      if (inside) return true;
-    }
-    return false;
+    return excluded_other(c, f, r, -1);
   }
-  // The same test, ignoring point `self`.
+  // The same test, ignoring point `self` (-1: none).
   bool excluded_other(const Vec3& c, const Frame& f, double r, std::int32_t self) const {
     Vec3 lo, hi;
     for (int a = 0; a < 3; ++a) {
@@ -139,8 +125,8 @@ std::vector<std::array<std::int32_t, 6>> lattice_neighbours(const std::vector<Ve
       for (int a = 0; a < 3; ++a) u[a] = (f[a][0] * d[0] + f[a][1] * d[1] + f[a][2] * d[2]) / h;
       for (int a = 0; a < 3; ++a) {
         const double s = u[a] > 0 ? 1.0 : -1.0;
-        const double err = std::max(
-            {std::abs(u[a] - s), std::abs(u[(a + 1) % 3]), std::abs(u[(a + 2) % 3])});
+        const double err =
+            std::max({std::abs(u[a] - s), std::abs(u[(a + 1) % 3]), std::abs(u[(a + 2) % 3])});
         const int slot = 2 * a + (s > 0 ? 0 : 1);
         if (err < best[slot] || (err == best[slot] && q < nb[i][slot])) {
           best[slot] = err;
@@ -201,8 +187,8 @@ void relax_lattice(std::vector<Vec3> cur, std::size_t ns, const std::vector<Fram
     const Vec3& from = out.points[i];
     const Vec3& to = cur[p];
     const int s = solid[p];
-    moved[i] = !locator.near_boundary(s, to, k * size[p]) &&
-               !locator.segment_hits_boundary(s, from, to);
+    moved[i] =
+        !locator.near_boundary(s, to, k * size[p]) && !locator.segment_hits_boundary(s, from, to);
   }
   // No two points closer than k h / 2 in a frame's L-infinity distance (the insertion kept k h):
   // moved points in such a pair go back, until none is left. The insertion's own points keep
@@ -213,9 +199,9 @@ void relax_lattice(std::vector<Vec3> cur, std::size_t ns, const std::vector<Fram
     std::vector<char> back(ni, 0);
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t i = 0; i < nni; ++i)
-      if (moved[i]) back[i] = cloud.excluded_other(cur[ns + i], frame[ns + i],
-                                                   0.5 * k * size[ns + i],
-                                                   static_cast<std::int32_t>(ns + i));
+      if (moved[i])
+        back[i] = cloud.excluded_other(cur[ns + i], frame[ns + i], 0.5 * k * size[ns + i],
+                                       static_cast<std::int32_t>(ns + i));
     bool any = false;
     for (std::size_t i = 0; i < ni; ++i)
       if (back[i]) {
@@ -427,9 +413,8 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   if (options.smooth_frame)
     smooth = std::make_unique<SmoothFrameField>(surface, field, locator, options.smooth);
   if (!options.random) {
-    VolumePoints out =
-        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(),
-                options.relax_iterations);
+    VolumePoints out = frontal(surface, field, locator, options.k, options.inherit_frame,
+                               smooth.get(), options.relax_iterations);
     jitter_points(out, field, options.jitter);
     return out;
   }
@@ -437,7 +422,7 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   std::size_t frontal_count = 0;
   if (target == 0) {
     frontal_count = frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(),
-                options.relax_iterations)
+                            options.relax_iterations)
                         .points.size();
     target = frontal_count;
   }
