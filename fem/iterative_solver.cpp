@@ -553,6 +553,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     lo.block = lo_block(s, nev);
     lo.tolerance = s.tolerance;
     lo.max_iterations = s.max_iterations;
+    lo.stall_iterations = s.stall_iterations;
     // The test of a pair (x M-normalized): |Kx - λMx| / (max(|λ|, floor) sqrt(mass per DOF)),
     // about |r|_{M^-1} / λ, dimensionless; a floor for λ ≈ 0.
     lo.floor = s.floor_fraction * lambda_scale;

@@ -252,6 +252,10 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
       res.failure = "did not converge";
       break;
     }
+    if (o.stall_iterations > 0 && it > o.stall_iterations && res.converged == 0) {
+      res.failure = "stalled";
+      break;
+    }
     // New directions: the preconditioned residuals of the active pairs, B-orthogonal to Y and X.
     for (std::size_t j = 0; j < active.size(); ++j)  // the active residuals to the front of R
       if (static_cast<long>(j) != active[j]) R.col(j) = R.col(active[j]);

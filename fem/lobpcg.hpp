@@ -38,6 +38,8 @@ struct LobpcgOptions {
   int block = 0;  // columns of the iterate (>= nev; 0 = nev); the extra ones only help
   double tolerance = 1e-6;
   int max_iterations = 200;
+  // Give up ("stalled") when no wanted pair has converged after this many iterations (0: never).
+  int stall_iterations = 0;
   // Convergence of a pair (x B-normalized): |Ax - λBx| / (max(|λ|, floor) sqrt(mass_per_dof))
   // < tolerance (iterative_solver.cpp sets it from IterativeSettings, 1e-5).
   double floor = 0, mass_per_dof = 1;

@@ -28,6 +28,9 @@ namespace {
 // Largest relative residual |Kφ - λMφ| / (λ_top |Mφ|) the direct path reports (it reaches 1e-9
 // to 1e-13 at tolerance 1e-10).
 constexpr double kMaxDirectResidual = 1e-6;
+// --solver auto: LOBPCG iterations with no converged pair before the direct path takes over (it
+// converges in 20-40 where it does; solver.md §10).
+constexpr int kAutoStallIterations = 60;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -204,7 +207,9 @@ double available_memory_bytes() {
 // where the iterative one needs 2.4x less memory, and the iterative one is 1.5x faster at 305k
 // and 3.4x at 1.05M (solver.md §10, session 13); 100k sits at the break-even. At order 2 the
 // break-even is near 300k (kAutoDirectMaxDofsOrder2; order2.md section 4).
-SolverChoice pick_solver(long free_dofs, int order, std::string& reason) {
+// *direct_fits: the direct path's estimated factor fits in half the available memory (one rank).
+SolverChoice pick_solver(long free_dofs, int order, long max_direct, std::string& reason,
+                         bool* direct_fits) {
   const double factor_bytes = 157.0 * std::pow(static_cast<double>(free_dofs), 4.0 / 3.0);
   const double available = available_memory_bytes();
   char buf[300];
@@ -212,10 +217,14 @@ SolverChoice pick_solver(long free_dofs, int order, std::string& reason) {
     std::snprintf(buf, sizeof buf, "auto: iterative (%d MPI ranks; the direct path is serial)",
                   mpi_size());
     reason = buf;
+    *direct_fits = false;
     return SolverChoice::Iterative;
   }
   const bool fits = available <= 0 || factor_bytes < 0.5 * available;
-  const long limit = order == 2 ? kAutoDirectMaxDofsOrder2 : kAutoDirectMaxDofs;
+  *direct_fits = fits;
+  const long limit = max_direct >= 0 ? max_direct
+                     : order == 2    ? kAutoDirectMaxDofsOrder2
+                                     : kAutoDirectMaxDofs;
   const bool small = free_dofs <= limit;
   std::snprintf(buf, sizeof buf,
                 "auto: %s (%ld DOFs %s %ld at order %d; estimated factor %.2g GB %s half of the "
@@ -360,7 +369,27 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
       throw Error("requested " + std::to_string(options.num_modes) + " modes but the model has " +
                   std::to_string(free_dofs) + " free DOFs (at most " +
                   std::to_string(free_dofs - 1) + " modes)");
-    if (path == SolverChoice::Auto) path = pick_solver(free_dofs, mesh.order, reason);
+    bool direct_fits = false;
+    const bool automatic = path == SolverChoice::Auto;
+    if (automatic)
+      path = pick_solver(free_dofs, mesh.order, options.auto_direct_max_dofs, reason, &direct_fits);
+    if (path == SolverChoice::Iterative && automatic && direct_fits) {
+      // LOBPCG + GAMG stalls on some parts (40mm_capot at order 2, 411k DOF: 0 of 2 modes after
+      // 200 iterations, then Krylov-Schur past 10 min; the direct path takes 72 s, 5.4 GB).
+      // Where the factor fits, a LOBPCG that has converged nothing after kAutoStallIterations
+      // hands over to the direct path instead of to Krylov-Schur.
+      ModalOptions first = options;
+      first.iterative.krylov_schur_fallback = false;
+      first.iterative.stall_iterations = kAutoStallIterations;
+      try {
+        ModalResult r = solve_modal_iterative(mesh, first, fixed);
+        r.solver_reason = reason;
+        return r;
+      } catch (const Error& e) {
+        reason += std::string("; then direct, since the iterative path failed: ") + e.what();
+        path = SolverChoice::Direct;
+      }
+    }
     if (path == SolverChoice::Iterative) {
       ModalResult r = solve_modal_iterative(mesh, options, fixed);
       r.solver_reason = reason;

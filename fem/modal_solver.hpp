@@ -75,6 +75,9 @@ struct ModalOptions {
   bool incompatible_hex = false;
   EigenOptions eigen;  // num_modes is taken from above
   SolverChoice solver = SolverChoice::Direct;
+  // --solver auto: the largest DOF count solved directly (-1: kAutoDirectMaxDofs, or
+  // kAutoDirectMaxDofsOrder2 at order 2); tests set 0 to take the iterative path first.
+  long auto_direct_max_dofs = -1;
   IterativeSettings iterative;
 };
 
