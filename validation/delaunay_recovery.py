@@ -8,37 +8,12 @@ table (H_nbr, H_vol, NC, mean Q, inverted, TetGen seconds) and the mean of each 
 """
 import argparse
 import json
-import re
 import statistics
 from pathlib import Path
 
-from study_util import CAD_EXT, run
+from study_util import CAD_EXT, diagonal, mesh
 
 ROOT = Path(__file__).resolve().parent.parent
-
-
-def diagonal(hexfem, model, timeout):
-    code, out, _, _ = run([hexfem, "info", str(model)], timeout)
-    if code != 0:
-        return None
-    m = re.search(r"bbox \[([^\]]*)\] - \[([^\]]*)\]", out)
-    lo = [float(x) for x in m.group(1).split()]
-    hi = [float(x) for x in m.group(2).split()]
-    return sum((b - a) ** 2 for a, b in zip(lo, hi)) ** 0.5
-
-
-def mesh(hexfem, model, h, extra, timeout):
-    code, out, err, secs = run(
-        [hexfem, "mesh", str(model), "--h", f"{h:.6g}", "--json", "-o", "/tmp/dr.msh", *extra],
-        timeout)
-    if code != 0:
-        lines = [ln for ln in err.splitlines() if ln.strip()]
-        return {"error": lines[-1] if lines else f"exit {code}"}
-    j = json.loads(out)
-    tetgen = sum(s["seconds"] for s in j["pipeline_stages"] if "tetgen" in s.get("name", ""))
-    return {"h_nbr": j["h_nbr_percent"], "h_vol": j["h_vol_percent"], "nc": j["nc_percent"],
-            "q": j["q_mean"], "inverted": j["inverted"], "vertices": j["vertices"],
-            "tetgen_s": tetgen, "total_s": j["total_seconds"]}
 
 
 def main():

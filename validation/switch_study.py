@@ -14,8 +14,7 @@ import shlex
 import statistics
 from pathlib import Path
 
-from delaunay_recovery import diagonal, mesh
-from study_util import CAD_EXT
+from study_util import CAD_EXT, diagonal, mesh
 
 ROOT = Path(__file__).resolve().parent.parent
 
