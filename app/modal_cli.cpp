@@ -1,5 +1,7 @@
 #include "app/modal_cli.hpp"
 
+#include <algorithm>
+
 #include "app/cli_checks.hpp"
 #include "app/part_modal.hpp"
 #include "fem/boundary.hpp"
@@ -38,6 +40,10 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                  "off). Default: " +
                      std::to_string(kOrder2Curvature) +
                      " at order 2 (never finer than h/2 from it), off at order 1");
+  sub.add_option("--relax-points", o.relax_points,
+                 "CAD input: sweeps moving each interior point towards its lattice neighbours "
+                 "(mesher study switch, as on `mesh`)")
+      ->check(CLI::Range(0, 1000));
   sub.add_flag("--force", o.force,
                "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
 }
@@ -56,6 +62,7 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h) {
   }
   parse_size_at(o.size_at, h, m.surface.vertex_sizes, m.surface.face_sizes);
   m.volume.conformal = o.conformal;
+  m.volume.relax_points = std::max(0, o.relax_points);
   return m;
 }
 

@@ -26,6 +26,9 @@ struct ModalCliOptions {
   // --curvature, CAD input: elements per turn on curved edges and faces; -1 (not given) is the
   // order's default: kOrder2Curvature at order 2, none at order 1.
   int curvature = -1;
+  // --relax-points, CAD input: lattice relaxation sweeps of the interior points (a mesher study
+  // switch, volume_points.hpp); -1 (not given) is none.
+  int relax_points = -1;
   CLI::Option* order_given = nullptr;
   CLI::Option* hex8_given = nullptr;
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;
@@ -47,8 +50,9 @@ ModalOptions modal_options_from(const ModalCliOptions& o);
 inline constexpr int kOrder2Curvature = 12;
 inline constexpr double kOrder2CurvatureMinRatio = 0.5;
 
-// The mesh options of a CAD part at size h from the shared options: --size-at, --conformal and
-// --curvature (or the order's default). Throws hexfem::Error on a bad --size-at or --curvature.
+// The mesh options of a CAD part at size h from the shared options: --size-at, --conformal,
+// --relax-points and --curvature (or the order's default). Throws hexfem::Error on a bad --size-at
+// or --curvature.
 MeshOptions cad_mesh_options(const ModalCliOptions& o, double h);
 
 // --hex8 chooses the order-1 hexahedron; given for an order-2 solve it would be ignored in

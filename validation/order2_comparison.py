@@ -22,6 +22,7 @@ Runs one after the other, never two at once. Writes the JSON, a Markdown table a
 """
 import argparse
 import json
+import shlex
 import math
 import os
 import subprocess
@@ -85,7 +86,7 @@ def hexfem_run(args, model, h, order, work):
     if "clamp_face" in model:
         bc += ["--size-at", f"face:{model['clamp_face']}={model['clamp_fraction']:g}h"]
     cmd = [args.hexfem, "modal", model["step"], "--h", f"{h:g}", "--order", str(order)] + bc + [
-        "--json"]
+        "--json"] + shlex.split(args.hexfem_switches)
     t0 = time.time()
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=work)
     wall = time.time() - t0
@@ -232,6 +233,8 @@ def main():
                                                        os.path.join(ROOT, "build", "app", "hexfem")))
     ap.add_argument("--out", default=os.path.join(ROOT, "validation", "out", "order2_comparison"))
     ap.add_argument("--models", default=",".join(MODELS))
+    ap.add_argument("--hexfem-switches", default="",
+                    help="more switches for every hexfem run, one string (e.g. '--relax-points 30')")
     ap.add_argument("--json", default=os.path.join(HERE, "order2_comparison.json"))
     ap.add_argument("--png", default=os.path.join(HERE, "order2_comparison.png"))
     ap.add_argument("--md", default=None, help="Markdown tables (default: <out>/tables.md)")
