@@ -192,8 +192,12 @@ void relax_lattice(std::vector<Vec3> cur, std::size_t ns, const std::vector<Fram
   }
   // No two points closer than k h / 2 in a frame's L-infinity distance (the insertion kept k h):
   // moved points in such a pair go back, until none is left. The insertion's own points keep
-  // k h between them, so this ends, at worst with every point back.
-  for (int round = 0; round < 8; ++round) {
+  // k h between them, so every point back is always a valid end: it is taken after 8 rounds.
+  for (int round = 0;; ++round) {
+    if (round == 8) {
+      moved.assign(ni, 0);
+      break;
+    }
     for (std::ptrdiff_t i = 0; i < nni; ++i) cur[ns + i] = moved[i] ? cur[ns + i] : out.points[i];
     const Cloud cloud(cur);
     std::vector<char> back(ni, 0);
