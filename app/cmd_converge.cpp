@@ -100,19 +100,20 @@ int run(const ConvergeArgs& a) {
   // One bound for every row, or the rows' own (the mesher's retries may raise it for one h).
   const bool same_bound = std::all_of(curvature.begin(), curvature.end(),
                                       [&](int c) { return c == curvature.front(); });
-  std::string bounds;
-  for (int c : curvature) bounds += (bounds.empty() ? "" : ", ") + std::to_string(c);
   const char* origin = a.modal.curvature < 0 ? " (the order-2 default, never finer than h/2; "
                                                "--curvature 0 turns it off)"
                                              : "";
   if (!curvature.empty() && same_bound && curvature.front() > 0)
     std::printf("meshes   curvature bound %d elements per turn on curved edges and faces%s\n",
                 curvature.front(), origin);
-  else if (!same_bound)
+  else if (!same_bound) {
+    std::string bounds;
+    for (int c : curvature) bounds += (bounds.empty() ? "" : ", ") + std::to_string(c);
     std::printf(
         "meshes   curvature bound per h, elements per turn on curved edges and faces (0 = "
         "none): %s%s\n",
         bounds.c_str(), origin);
+  }
   std::printf("%s", convergence_text(study).c_str());
   for (const auto& f : files) std::printf("wrote %s\n", f.string().c_str());
   return 0;

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -324,7 +325,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
     if (region[seed] >= 0) continue;
     const auto r = static_cast<std::int32_t>(region_largest.size());
     region_largest.push_back(seed);
-    double largest = volume6(seed);
+    double largest = -std::numeric_limits<double>::infinity();
     region[seed] = r;
     stack.assign(1, seed);
     while (!stack.empty()) {

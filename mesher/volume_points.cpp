@@ -26,6 +26,15 @@ RPoint rp(const Vec3& p) {
   return RPoint(p[0], p[1], p[2]);
 }
 
+// The axis-aligned box [lo, hi] around the cube of half-side r about c oriented by frame f.
+void frame_box(const Vec3& c, const Frame& f, double r, Vec3& lo, Vec3& hi) {
+  for (int a = 0; a < 3; ++a) {
+    const double ext = r * (std::abs(f[0][a]) + std::abs(f[1][a]) + std::abs(f[2][a]));
+    lo[a] = c[a] - ext;
+    hi[a] = c[a] + ext;
+  }
+}
+
 // The cloud so far: positions and an R-tree over them. A candidate's exclusion region is the
 // cube of half-side k*h oriented by its frame; the R-tree is asked for its axis-aligned box.
 class Cloud {
@@ -44,11 +53,7 @@ class Cloud {
   // The same test, ignoring point `self` (-1: none).
   bool excluded_other(const Vec3& c, const Frame& f, double r, std::int32_t self) const {
     Vec3 lo, hi;
-    for (int a = 0; a < 3; ++a) {
-      const double ext = r * (std::abs(f[0][a]) + std::abs(f[1][a]) + std::abs(f[2][a]));
-      lo[a] = c[a] - ext;
-      hi[a] = c[a] + ext;
-    }
+    frame_box(c, f, r, lo, hi);
     for (auto it = tree_.qbegin(bgi::intersects(RBox(rp(lo), rp(hi)))); it != tree_.qend(); ++it) {
       if (it->second == self) continue;
       const Vec3& x = points_[it->second];
@@ -67,6 +72,7 @@ class Cloud {
     return id;
   }
   const Vec3& point(std::int32_t i) const { return points_[i]; }
+  const std::vector<Vec3>& points() const { return points_; }
   std::size_t size() const { return points_.size(); }
   // Calls f(id) for every point in the axis-aligned box [lo, hi].
   template <class F>
@@ -111,12 +117,7 @@ std::vector<std::array<std::int32_t, 6>> lattice_neighbours(const std::vector<Ve
     best.fill(tol);
     nb[i].fill(-1);
     Vec3 lo, hi;
-    for (int a = 0; a < 3; ++a) {
-      const double ext =
-          (1 + tol) * h * (std::abs(f[0][a]) + std::abs(f[1][a]) + std::abs(f[2][a]));
-      lo[a] = c[a] - ext;
-      hi[a] = c[a] + ext;
-    }
+    frame_box(c, f, (1 + tol) * h, lo, hi);
     cloud.for_each_in_box(lo, hi, [&](std::int32_t q) {
       if (q == p) return;
       const Vec3& y = x[q];
@@ -138,11 +139,13 @@ std::vector<std::array<std::int32_t, 6>> lattice_neighbours(const std::vector<Ve
   return nb;
 }
 
-void relax_lattice(std::vector<Vec3> cur, std::size_t ns, const std::vector<Frame>& frame,
+// all: the surface points, then out.points (the frontal order).
+void relax_lattice(const std::vector<Vec3>& all, std::size_t ns, const std::vector<Frame>& frame,
                    const std::vector<double>& size, const std::vector<std::int32_t>& solid,
                    const SolidLocator& locator, double k, int iterations, VolumePoints& out) {
   const std::size_t ni = out.points.size();
   if (iterations <= 0 || ni == 0) return;
+  std::vector<Vec3> cur = all;
   const auto nni = static_cast<std::ptrdiff_t>(ni);
   const std::vector<std::array<std::int32_t, 6>> nb =
       lattice_neighbours(cur, ns, frame, size, kRelaxTolerance);
@@ -337,11 +340,7 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
     }
     head = end;
   }
-  if (relax_iterations > 0) {
-    std::vector<Vec3> all(cloud.size());
-    for (std::size_t v = 0; v < all.size(); ++v) all[v] = cloud.point(static_cast<std::int32_t>(v));
-    relax_lattice(std::move(all), ns, frame, size, solid, locator, k, relax_iterations, out);
-  }
+  relax_lattice(cloud.points(), ns, frame, size, solid, locator, k, relax_iterations, out);
   return out;
 }
 
@@ -425,9 +424,10 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   std::size_t target = options.random_count;
   std::size_t frontal_count = 0;
   if (target == 0) {
-    frontal_count = frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(),
-                            options.relax_iterations)
-                        .points.size();
+    // Only the count is used: no relaxation.
+    frontal_count =
+        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(), 0)
+            .points.size();
     target = frontal_count;
   }
   VolumePoints out = random_points(surface, field, locator, options.k, target, options.seed);

@@ -11,7 +11,7 @@ import json
 import statistics
 from pathlib import Path
 
-from study_util import CAD_EXT, diagonal, mesh
+from study_util import paired_runs
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -23,18 +23,8 @@ def main():
     ap.add_argument("--timeout", type=float, default=600)
     ap.add_argument("--json")
     a = ap.parse_args()
-    rows = []
-    for model in sorted(Path(a.models).iterdir()):
-        if model.suffix.lower() not in CAD_EXT:
-            continue
-        d = diagonal(a.hexfem, model, a.timeout)
-        if d is None:
-            continue
-        for div in (30, 60):
-            h = d / div
-            off = mesh(a.hexfem, model, h, [], a.timeout)
-            on = mesh(a.hexfem, model, h, ["--tetgen-delaunay-recovery"], a.timeout)
-            rows.append({"model": model.name, "div": div, "h": h, "off": off, "on": on})
+    rows = paired_runs(a.hexfem, a.models, (30, 60), [], ["--tetgen-delaunay-recovery"],
+                       ("off", "on"), a.timeout)
     print("| model | h | vertices | H_nbr on → off | H_vol on → off | NC on → off | Q on → off |"
           " inverted off | TetGen s on → off |")
     print("|---|---:|---:|---|---|---|---|---:|---|")

@@ -6,6 +6,7 @@ import os
 import re
 import subprocess
 import time
+from pathlib import Path
 
 CAD_EXT = {".stp", ".step", ".igs", ".iges", ".brep", ".rle"}
 
@@ -45,3 +46,24 @@ def mesh(hexfem, model, h, extra, timeout):
     return {"h_nbr": j["h_nbr_percent"], "h_vol": j["h_vol_percent"], "nc": j["nc_percent"],
             "q": j["q_mean"], "inverted": j["inverted"], "vertices": j["vertices"],
             "tetgen_s": tetgen, "total_s": j["total_seconds"]}
+
+
+def paired_runs(hexfem, models_dir, divs, first, second, names, timeout, progress=False):
+    """Every CAD model of models_dir at h = diagonal / div for each div, meshed with the switches
+    `first` and then `second`; rows {"model", "div", "h", names[0]: figures, names[1]: figures}."""
+    rows = []
+    for model in sorted(Path(models_dir).iterdir()):
+        if model.suffix.lower() not in CAD_EXT:
+            continue
+        d = diagonal(hexfem, model, timeout)
+        if d is None:
+            continue
+        for div in divs:
+            h = d / div
+            a = mesh(hexfem, model, h, first, timeout)
+            b = mesh(hexfem, model, h, second, timeout)
+            rows.append({"model": model.name, "div": div, "h": h, names[0]: a, names[1]: b})
+            if progress:
+                print(f"{model.name} /{div}: {a.get('h_vol', a.get('error'))} -> "
+                      f"{b.get('h_vol', b.get('error'))}", flush=True)
+    return rows

@@ -14,7 +14,7 @@ import shlex
 import statistics
 from pathlib import Path
 
-from study_util import CAD_EXT, diagonal, mesh
+from study_util import paired_runs
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -29,20 +29,8 @@ def main():
     ap.add_argument("--json")
     a = ap.parse_args()
     switch = shlex.split(a.switch)
-    rows = []
-    for model in sorted(Path(a.models).iterdir()):
-        if model.suffix.lower() not in CAD_EXT:
-            continue
-        d = diagonal(a.hexfem, model, a.timeout)
-        if d is None:
-            continue
-        for div in (int(x) for x in a.divs.split(",")):
-            h = d / div
-            old = mesh(a.hexfem, model, h, [], a.timeout)
-            new = mesh(a.hexfem, model, h, switch, a.timeout)
-            rows.append({"model": model.name, "div": div, "h": h, "old": old, "new": new})
-            print(f"{model.name} /{div}: {old.get('h_vol', old.get('error'))} -> "
-                  f"{new.get('h_vol', new.get('error'))}", flush=True)
+    rows = paired_runs(a.hexfem, a.models, [int(x) for x in a.divs.split(",")], [], switch,
+                       ("old", "new"), a.timeout, progress=True)
     print(f"\nDefault → `{a.switch}`:\n")
     print("| model | h | vertices | H_nbr | H_vol | NC | Q | inverted | s |")
     print("|---|---:|---:|---|---|---|---|---:|---|")
