@@ -32,6 +32,7 @@ struct MeshArgs {
   VolumeOptions volume;  // --dim 3 only
   std::string hex_selection = "greedy";
   bool binary = false;
+  double align_opposite = 0;
 };
 
 int run(const MeshArgs& a) {
@@ -53,6 +54,7 @@ int run(const MeshArgs& a) {
   opt.h = a.h;
   opt.curvature = a.curvature;
   opt.force = a.force;
+  opt.align_opposite = a.align_opposite;
   parse_size_at(a.size_at, a.h, opt.vertex_sizes, opt.face_sizes);
   if (a.dim == 3) {
     VolumeMeshArgs v;
@@ -188,6 +190,10 @@ RegisterCommand reg{
                       "Jacobi sweeps moving each interior point towards its lattice neighbours "
                       "after the frontal insertion (study)")
            ->check(CLI::Range(0, 1000));
+       sub.add_option("--align-opposite", a->align_opposite,
+                      "pack the two faces of a wall up to T sizes thick from the same points, "
+                      "the smaller face seeded from the larger (study; 0 = off)")
+           ->check(CLI::Range(0.0, 10.0));
        sub.add_flag("--tetgen-delaunay-recovery", a->volume.tetgen_delaunay_recovery,
                     "let TetGen make the faces next to the boundary Delaunay again after "
                     "recovering it (tetgen -pY; slower at scale; study)");

@@ -1,6 +1,7 @@
 #include "mesher/surface_pipeline.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <unordered_map>
 
 #include "mesher/cross_field.hpp"
 #include "mesher/edge_points.hpp"
@@ -245,6 +247,95 @@ FaceWork face_boundaries(const CadModel& cad, const SizeField& size, const EdgeP
   return w;
 }
 
+// --align-opposite: faces in order of decreasing area (ties by id); each is packed again with
+// the points of the faces before it that lie across a thin wall as seeds, so the wall's two
+// sides carry the same lattice and the tets between them close into hexes. In sequence: a face
+// seeds from faces already final. The final faces' points sit on a grid of cell `reach`; a face
+// asks it around its own points (boundary and first packing), so only points within `reach` of
+// the face are projected onto it.
+void align_opposite_faces(const CadModel& cad, const EdgePoints& edges, FaceWork& w,
+                          const SurfaceOptions& o) {
+  std::vector<std::size_t> order(w.size());
+  for (std::size_t k = 0; k < w.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return cad.face_area(w.faces[a]) > cad.face_area(w.faces[b]);
+  });
+  const double reach = (o.align_opposite + 1) * o.h;
+  auto cell = [&](const Vec3& p, int dx, int dy, int dz) {
+    auto c = [&](double x, int d) {
+      return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / reach)) + d +
+                                        (1 << 20)) &
+             0x1fffff;
+    };
+    return c(p[0], dx) << 42 | c(p[1], dy) << 21 | c(p[2], dz);
+  };
+  // (face index k, point index) of the final faces' interior points, by grid cell.
+  std::unordered_map<std::uint64_t, std::vector<std::array<std::uint32_t, 2>>> grid;
+  std::vector<std::vector<Vec3>> normals(w.size());  // outward, at the final faces' points
+  auto share_solid = [&](std::size_t a, std::size_t b) {
+    for (int s : cad.solids_of_face(w.faces[a]))
+      for (int t : cad.solids_of_face(w.faces[b]))
+        if (s == t) return true;
+    return false;
+  };
+  std::vector<std::size_t> rank(w.size());
+  for (std::size_t i = 0; i < order.size(); ++i) rank[order[i]] = i;
+  for (std::size_t k : order) {
+    if (w.collapsed[k]) continue;
+    // Own points: xyz and parameters.
+    std::vector<Vec3> own = w.pts[k].xyz;
+    std::vector<Vec2> own_uv = w.pts[k].uv;
+    for (std::size_t i = 0; i < w.boundary[k].node.size(); ++i) {
+      own.push_back(edges.xyz[static_cast<std::size_t>(w.boundary[k].node[i])]);
+      own_uv.push_back(w.boundary[k].uv[i]);
+    }
+    std::vector<Vec3> own_n(own.size());
+    for (std::size_t i = 0; i < own.size(); ++i) own_n[i] = cad.normal(w.faces[k], own_uv[i]);
+    // Each final point within reach of an own point, with the nearest own point's parameters.
+    // Cheap tests first (opposite_seeds decides): normals roughly opposite, the point on the
+    // solid's side of the own point's tangent plane and within T sizes of it.
+    std::map<std::array<std::uint32_t, 2>, std::pair<double, std::size_t>> found;
+    for (std::size_t i = 0; i < own.size(); ++i)
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            const auto it = grid.find(cell(own[i], dx, dy, dz));
+            if (it == grid.end()) continue;
+            for (const auto& jp : it->second) {
+              const Vec3 dp = v3::sub(w.pts[jp[0]].xyz[jp[1]], own[i]);
+              const double d = v3::norm(dp), across = -v3::dot(dp, own_n[i]);
+              if (d > reach || across <= 0 || across > o.align_opposite * o.h ||
+                  v3::dot(normals[jp[0]][jp[1]], own_n[i]) > -0.8 || !share_solid(jp[0], k))
+                continue;
+              // Keyed by the source's rank: the candidates come in the order faces were final.
+              const std::array<std::uint32_t, 2> key{static_cast<std::uint32_t>(rank[jp[0]]),
+                                                     jp[1]};
+              auto [pos, added] = found.try_emplace(key, d, i);
+              if (!added && d < pos->second.first) pos->second = {d, i};
+            }
+          }
+    if (!found.empty()) {
+      std::vector<SeedCandidate> cands;
+      for (const auto& [key, near] : found) {
+        const std::size_t j = order[key[0]];
+        cands.push_back(
+            {w.faces[j], w.pts[j].xyz[key[1]], w.pts[j].uv[key[1]], own_uv[near.second]});
+      }
+      PackingOptions po;
+      po.k = o.k;
+      po.budget = static_cast<std::size_t>(w.budget[k]);
+      po.seeds = opposite_seeds(cad, *w.field[k], cands, o.align_opposite);
+      if (!po.seeds.empty()) w.pts[k] = pack_face(cad, *w.field[k], w.boundary[k], edges, po);
+    }
+    normals[k].resize(w.pts[k].xyz.size());
+    for (std::size_t i = 0; i < w.pts[k].xyz.size(); ++i)
+      normals[k][i] = cad.normal(w.faces[k], w.pts[k].uv[i]);
+    for (std::size_t i = 0; i < w.pts[k].xyz.size(); ++i)
+      grid[cell(w.pts[k].xyz[i], 0, 0, 0)].push_back(
+          {static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(i)});
+  }
+}
+
 // Stage 5: each face triangulated from its points. A face with no interior point near two of
 // its edges may join them by a diagonal that a neighbouring face sharing both edges draws too
 // (two half cylinders of a small hole): the edge would be used four times. Such faces get a
@@ -406,6 +497,7 @@ SurfaceMesh mesh_surface_once(const CadModel& cad, const SurfaceOptions& options
     po.budget = static_cast<std::size_t>(w.budget[k]);
     if (!w.collapsed[k]) w.pts[k] = pack_face(cad, *w.field[k], w.boundary[k], edges, po);
   });
+  if (options.align_opposite > 0) align_opposite_faces(cad, edges, w, options);
   for (const auto& p : w.pts) rep.candidates += p.candidates;
   lap("packing");
 

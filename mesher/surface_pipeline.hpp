@@ -23,7 +23,10 @@ struct SurfaceOptions {
   std::vector<std::pair<int, double>> vertex_sizes;  // (CAD vertex id, size)
   std::vector<std::pair<int, double>> face_sizes;    // (CAD face id, size)
   double k = 0.7;                                    // packing exclusion factor (paper: 0.7)
-  bool force = false;                                // allow more than max_points
+  // --align-opposite T: faces across a wall up to T sizes thick are packed from each other's
+  // points (opposite_seeds; 0 = off, a study switch).
+  double align_opposite = 0;
+  bool force = false;  // allow more than max_points
   // Surface points estimated before the work (from h, then from the sizes the edges got): 1e6
   // surface points make tens of millions of volume vertices, past this machine's memory; a thin
   // wall refines its faces to its thickness (a 100 x 100 x 0.03 mm plate at h = 5: 3.6e6 points,

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <deque>
 #include <string>
+#include <unordered_map>
 
 #include "mesher/mesh/error.hpp"
 #include "mesher/rtree2d.hpp"
@@ -92,6 +94,43 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
 
   std::vector<std::pair<BPoint, int>> hits;
   const double k = opt.k;
+  // Whether a point at uc with frame fc keeps every other point out of its exclusion square of
+  // half-side r (eq. 7), stays h/2 off the boundary segments and lies inside the trimmed face.
+  auto free_at = [&](const Frame& fc, const Vec2& uc, double r) {
+    Vec2 a, c;
+    if (!parametric_step(fc, {fc.d1[0] * r, fc.d1[1] * r, fc.d1[2] * r}, a) ||
+        !parametric_step(fc, {fc.d2[0] * r, fc.d2[1] * r, fc.d2[2] * r}, c))
+      return false;
+    // Box of the exclusion parallelogram, widened for the surface's curvature.
+    const double ex = 1.5 * (std::abs(a[0]) + std::abs(c[0])),
+                 ey = 1.5 * (std::abs(a[1]) + std::abs(c[1]));
+    const BBox query(BPoint(uc[0] - ex, uc[1] - ey), BPoint(uc[0] + ex, uc[1] + ey));
+    hits.clear();
+    tree.query(bgi::intersects(query), std::back_inserter(hits));
+    for (const auto& [pt, j] : hits)
+      if (linf(fc, xyz[static_cast<std::size_t>(j)]) < r) return false;
+    for (const Vec3& q : singular)
+      if (linf(fc, q) < r) return false;
+    return !near_boundary(fc.p, query, 0.5 * fc.h) && cad.contains(f, uc);
+  };
+  auto add_point = [&](const Vec2& uc, const Vec3& x) {
+    const int id = static_cast<int>(uv.size());
+    uv.push_back(uc);
+    xyz.push_back(x);
+    tree.insert({BPoint(uc[0], uc[1]), id});
+    queue.push_back(id);
+    out.uv.push_back(uc);
+    out.xyz.push_back(x);
+    if (opt.budget > 0 && out.uv.size() > opt.budget)
+      throw Error("face " + std::to_string(f) + ": point packing exceeded its budget of " +
+                  std::to_string(opt.budget) + " points (degenerate parametrisation?)");
+  };
+  // Seeds (the points of a face across a thin wall) go in first, under the same exclusion; the
+  // fronts then grow from the boundary and from them.
+  for (const Vec2& s : opt.seeds) {
+    const Frame fc = field.frame(s);
+    if (fc.ok && fc.h > 0 && free_at(fc, s, k * fc.h)) add_point(s, fc.p);
+  }
   while (!queue.empty()) {
     const int i = queue.front();
     queue.pop_front();
@@ -154,39 +193,38 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
       // would then face the coarse points across the face (a needle). The exclusion grows at
       // most by a quarter from the spawning point's.
       const double r = k * std::min(fc.h, 1.25 * fr.h);
-      Vec2 a, c;
-      if (!parametric_step(fc, {fc.d1[0] * r, fc.d1[1] * r, fc.d1[2] * r}, a) ||
-          !parametric_step(fc, {fc.d2[0] * r, fc.d2[1] * r, fc.d2[2] * r}, c))
-        continue;
-      // Box of the exclusion parallelogram, widened for the surface's curvature.
-      const double ex = 1.5 * (std::abs(a[0]) + std::abs(c[0])),
-                   ey = 1.5 * (std::abs(a[1]) + std::abs(c[1]));
-      const BBox query(BPoint(uc[0] - ex, uc[1] - ey), BPoint(uc[0] + ex, uc[1] + ey));
-      hits.clear();
-      tree.query(bgi::intersects(query), std::back_inserter(hits));
-      bool free = true;
-      for (const auto& [pt, j] : hits) {
-        if (linf(fc, xyz[static_cast<std::size_t>(j)]) < r) {
-          free = false;
-          break;
-        }
-      }
-      for (std::size_t q = 0; free && q < singular.size(); ++q)
-        if (linf(fc, singular[q]) < r) free = false;
-      if (!free || near_boundary(fc.p, query, 0.5 * fc.h) || !cad.contains(f, uc)) continue;
-      const int id = static_cast<int>(uv.size());
-      uv.push_back(uc);
-      xyz.push_back(fc.p);
-      tree.insert({BPoint(uc[0], uc[1]), id});
-      queue.push_back(id);
-      out.uv.push_back(uc);
-      out.xyz.push_back(fc.p);
-      if (opt.budget > 0 && out.uv.size() > opt.budget)
-        throw Error("face " + std::to_string(f) + ": point packing exceeded its budget of " +
-                    std::to_string(opt.budget) + " points (degenerate parametrisation?)");
+      if (free_at(fc, uc, r)) add_point(uc, fc.p);
     }
   }
   return out;
+}
+
+std::vector<Vec2> opposite_seeds(const CadModel& cad, const FaceField& field,
+                                 const std::vector<SeedCandidate>& candidates,
+                                 double max_thickness) {
+  const int f = field.face();
+  const double cos_opposite = 0.9063;  // cos 25 deg
+  FaceProjector projector(cad, f);
+  std::vector<Vec2> seeds;
+  for (const SeedCandidate& c : candidates) {
+    Vec2 uv;
+    if (!projector.project(c.p, c.start, uv) || !cad.contains(f, uv)) continue;
+    const Frame fr = field.frame(uv);
+    if (!fr.ok || !(fr.h > 0)) continue;
+    const Vec3 d = v3::sub(c.p, fr.p);
+    const double dist = v3::norm(d);
+    if (dist < 0.3 * fr.h || dist > max_thickness * fr.h) continue;
+    const Vec3 n = cad.normal(f, uv), ns = cad.normal(c.face, c.source_uv);
+    if (dot(n, ns) > -cos_opposite || dot(d, n) > -cos_opposite * dist) continue;
+    // Off the exact projection by h/20 along (d1 + d2/2): four points in pairs straight across
+    // a planar wall are coplanar, and TetGen may join them by a flat tet that no element
+    // absorbs (seen on 40mm_capot).
+    Vec2 du;
+    const Vec3 shift = v3::scaled(v3::sub(fr.d1, v3::scaled(fr.d2, -0.5)), 0.05 * fr.h);
+    if (!parametric_step(fr, shift, du)) continue;
+    seeds.push_back({uv[0] + du[0], uv[1] + du[1]});
+  }
+  return seeds;
 }
 
 }  // namespace hexfem

@@ -21,8 +21,9 @@
 namespace hexfem {
 
 struct PackingOptions {
-  double k = 0.7;          // exclusion square half-side, in units of h
-  std::size_t budget = 0;  // most points this face may get (0 = unbounded)
+  double k = 0.7;           // exclusion square half-side, in units of h
+  std::size_t budget = 0;   // most points this face may get (0 = unbounded)
+  std::vector<Vec2> seeds;  // points placed before the fronts run (opposite_seeds), if free
 };
 
 // Interior points of one face, in the order they were inserted.
@@ -35,5 +36,21 @@ struct FacePoints {
 // Throws hexfem::Error when the face needs more points than options.budget.
 FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoundary& boundary,
                      const EdgePoints& points, const PackingOptions& options);
+
+// A thin wall's two sides packed alike (--align-opposite T, a study switch): points of faces
+// packed earlier that lie across the wall from `field`'s face become its seeds. A candidate p
+// qualifies when its nearest point q on the face (searched from c.start) is inside the trimmed
+// face, between 0.3 and T local sizes away, with the two outward normals opposite (within
+// 25 deg) and p on the solid's side of the face along the normal. Returns the q's parameters,
+// each moved h/20 along the face's frame (see the .cpp), in the candidates' order.
+struct SeedCandidate {
+  int face = 0;      // the face p was packed on
+  Vec3 p{};          // the point
+  Vec2 source_uv{};  // its parameters there
+  Vec2 start{};      // parameters of the face's own point nearest p
+};
+std::vector<Vec2> opposite_seeds(const CadModel& cad, const FaceField& field,
+                                 const std::vector<SeedCandidate>& candidates,
+                                 double max_thickness);
 
 }  // namespace hexfem

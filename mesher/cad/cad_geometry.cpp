@@ -1,7 +1,10 @@
 // Geometric queries of CadModel: points and derivatives on edges and faces, curvature,
 // projection, the trimmed-domain test. All const and safe to call from several threads.
 #include <BRep_Tool.hxx>
+#include <Extrema_GenLocateExtPS.hxx>
+#include <Extrema_POnSurf.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
+#include <GeomAdaptor_Surface.hxx>
 #include <GeomLProp_CLProps.hxx>
 #include <GeomLProp_SLProps.hxx>
 #include <Standard_Failure.hxx>
@@ -158,8 +161,8 @@ auto evaluate(const FaceData& d, int f, Vec2 uv, Eval eval) {
     return eval(clamped);
   } catch (const Standard_Failure& e) {
     throw Error("face " + std::to_string(f) + ": OpenCASCADE cannot evaluate its surface at (" +
-                std::to_string(uv[0]) + ", " + std::to_string(uv[1]) + "): " +
-                e.GetMessageString());
+                std::to_string(uv[0]) + ", " + std::to_string(uv[1]) +
+                "): " + e.GetMessageString());
   }
 }
 
@@ -227,6 +230,35 @@ Vec2 CadModel::project(int f, const Vec3& p) const {
   } catch (const Standard_Failure&) {
   }
   throw Error("face " + std::to_string(f) + ": cannot project a point onto its surface");
+}
+
+struct FaceProjector::Impl {
+  GeomAdaptor_Surface surface;
+  std::unique_ptr<Extrema_GenLocateExtPS> locate;
+};
+
+FaceProjector::FaceProjector(const CadModel& cad, int f) : impl_(std::make_unique<Impl>()) {
+  const auto& d = at(cad.impl().faces, f, "face");
+  try {
+    impl_->surface.Load(d.surface, d.bounds[0], d.bounds[1], d.bounds[2], d.bounds[3]);
+    impl_->locate = std::make_unique<Extrema_GenLocateExtPS>(impl_->surface);
+  } catch (const Standard_Failure&) {
+    impl_->locate.reset();
+  }
+}
+
+FaceProjector::~FaceProjector() = default;
+
+bool FaceProjector::project(const Vec3& p, Vec2 start, Vec2& uv) {
+  if (!impl_->locate) return false;
+  try {
+    impl_->locate->Perform(gp_Pnt(p[0], p[1], p[2]), start[0], start[1], Standard_True);
+    if (!impl_->locate->IsDone()) return false;
+    impl_->locate->Point().Parameter(uv[0], uv[1]);
+    return std::isfinite(uv[0]) && std::isfinite(uv[1]);
+  } catch (const Standard_Failure&) {
+    return false;
+  }
 }
 
 bool CadModel::contains(int f, Vec2 uv) const {

@@ -132,4 +132,22 @@ class CadModel {
   std::unique_ptr<Impl> impl_;
 };
 
+// Many projections onto one face from nearby starting parameters: a local search (OCCT's
+// Extrema_GenLocateExtPS), where CadModel::project searches a grid over the whole surface at
+// every call (most of the cost on a large B-spline face).
+class FaceProjector {
+ public:
+  FaceProjector(const CadModel& cad, int f);
+  ~FaceProjector();
+  FaceProjector(const FaceProjector&) = delete;
+  FaceProjector& operator=(const FaceProjector&) = delete;
+  // Parameters of the point of the face's surface nearest p, searched from `start` (the
+  // parameters of a point of the face near p); false when the search fails.
+  bool project(const Vec3& p, Vec2 start, Vec2& uv);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 }  // namespace hexfem
