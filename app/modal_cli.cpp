@@ -44,6 +44,10 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                  "CAD input: sweeps moving each interior point towards its lattice neighbours "
                  "(mesher study switch, as on `mesh`)")
       ->check(CLI::Range(0, 1000));
+  sub.add_option("--align-opposite", o.align_opposite,
+                 "CAD input: pack the two faces of a wall up to T sizes thick from the same points "
+                 "(mesher study switch, as on `mesh`)")
+      ->check(CLI::Range(0.0, 10.0));
   sub.add_flag("--force", o.force,
                "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
 }
@@ -63,6 +67,7 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h) {
   parse_size_at(o.size_at, h, m.surface.vertex_sizes, m.surface.face_sizes);
   m.volume.conformal = o.conformal;
   m.volume.relax_points = std::max(0, o.relax_points);
+  m.surface.align_opposite = std::max(0.0, o.align_opposite);
   return m;
 }
 

@@ -29,6 +29,9 @@ struct ModalCliOptions {
   // --relax-points, CAD input: lattice relaxation sweeps of the interior points (a mesher study
   // switch, volume_points.hpp); -1 (not given) is none.
   int relax_points = -1;
+  // --align-opposite T, CAD input: the faces of walls up to T sizes thick packed from the same
+  // points (a mesher study switch, surface_points.hpp); -1 (not given) is off.
+  double align_opposite = -1;
   CLI::Option* order_given = nullptr;
   CLI::Option* hex8_given = nullptr;
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;
