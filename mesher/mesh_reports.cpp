@@ -32,6 +32,7 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
   j["steiner_points"] = r.steiner_points;
   if (r.frontal_points) j["frontal_points"] = r.frontal_points;
   j["tets_from_tetgen"] = r.tets;
+  j["tetgen_own_seconds"] = r.tetgen_seconds;
   j["absorbed_slivers"] = r.absorbed_slivers;
   j["tets_in_elements"] = r.tets_in_elements;
   j["flat_boundary_tets"] = r.flat_boundary_tets;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -74,7 +75,8 @@ struct TetgenResult {
   std::string error;  // empty on success
   std::vector<double> points;
   std::vector<int> tets, neighbors, trifaces;
-  pid_t child = -1;  // on success: the child, still to be reaped (ChildReaper)
+  double seconds = 0;  // TetGen's steps in the child
+  pid_t child = -1;    // on success: the child, still to be reaped (ChildReaper)
 };
 
 // Waits for a finished child (it may still be releasing its memory) when it goes out of scope.
@@ -144,8 +146,8 @@ void run_tetgen_stages(tetgenbehavior& b, tetgenio& in, tetgenio& out, bool reco
   m.outneighbors(&out);
 }
 
-// The child's message: the four array sizes, the arrays, then this mark (a child that died
-// while writing leaves it out).
+// The child's message: the four array sizes, the arrays, TetGen's seconds, then this mark (a child
+// that died while writing leaves it out).
 constexpr std::uint64_t kEndMark = 0x74657467656e4f4bull;
 static_assert(std::is_same_v<REAL, double>, "TetGen built with REAL = double");
 
@@ -167,12 +169,15 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recove
     const int devnull = ::open("/dev/null", O_WRONLY);
     if (devnull >= 0) ::dup2(devnull, STDOUT_FILENO);  // TetGen prints even with -Q on errors
     int code = 0;
+    double seconds = 0;
     tetgenio out;
     try {
       tetgenbehavior b;
       std::vector<char> sw(switches, switches + std::strlen(switches) + 1);
       if (!b.parse_commandline(sw.data())) ::_exit(90);
+      const auto t0 = std::chrono::steady_clock::now();
       run_tetgen_stages(b, in, out, recover_delaunay);
+      seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     } catch (int c) {
       code = c;
     }
@@ -184,6 +189,7 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recove
                     write_all(fd[1], out.tetrahedronlist, sizes[1] * sizeof(int)) &&
                     write_all(fd[1], out.neighborlist, sizes[2] * sizeof(int)) &&
                     write_all(fd[1], out.trifacelist, sizes[3] * sizeof(int)) &&
+                    write_all(fd[1], &seconds, sizeof seconds) &&
                     write_all(fd[1], &kEndMark, sizeof kEndMark);
     ::close(fd[1]);
     ::_exit(ok ? 0 : 91);
@@ -202,6 +208,7 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recove
                read_all(fd[0], r.tets.data(), sizes[1] * sizeof(int)) &&
                read_all(fd[0], r.neighbors.data(), sizes[2] * sizeof(int)) &&
                read_all(fd[0], r.trifaces.data(), sizes[3] * sizeof(int)) &&
+               read_all(fd[0], &r.seconds, sizeof r.seconds) &&
                read_all(fd[0], &mark, sizeof mark) && mark == kEndMark;
   }
   ::close(fd[0]);
@@ -269,6 +276,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
   const std::size_t np = out.points.size() / 3;
   if (np < ns + ni) throw Error("TetGen dropped input points");
   mesh.steiner_points = np - ns - ni;
+  mesh.tetgen_seconds = out.seconds;
   mesh.nodes.resize(np);
   for (std::size_t i = 0; i < np; ++i)
     mesh.nodes[i] = {out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]};

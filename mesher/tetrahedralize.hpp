@@ -26,6 +26,9 @@ struct TetMesh {
   std::vector<std::int32_t> tet_solid;
   std::size_t steiner_points = 0;
   std::size_t dropped_tets = 0;  // TetGen tets outside every solid (inner voids), removed
+  // TetGen's own run (its steps in the child process, wall clock): the "tetgen" stage also
+  // holds the input's conversion, the output's transfer and checks, and the region fill.
+  double tetgen_seconds = 0;
 };
 
 // Throws hexfem::Error when TetGen fails (naming the intersecting surface triangles and their

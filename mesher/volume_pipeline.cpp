@@ -279,6 +279,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   TetMesh tets =
       tetrahedralize(surface_in, points.points, locator, options.tetgen_delaunay_recovery);
   r.steiner_points = tets.steiner_points;
+  r.tetgen_seconds = tets.tetgen_seconds;
   r.tets = tets.tets.size();
   r.stages.push_back(timer.lap("tetgen"));
 

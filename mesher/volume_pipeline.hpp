@@ -68,6 +68,7 @@ struct VolumeOptions {
 
 struct VolumeReport {
   std::size_t surface_vertices = 0, interior_points = 0, steiner_points = 0;
+  double tetgen_seconds = 0;         // TetGen's own run, inside the "tetgen" stage (TetMesh)
   std::size_t frontal_points = 0;    // random mode: the frontal count it aimed at
   std::size_t tets = 0;              // TetGen's tets (inside the solids)
   std::size_t absorbed_slivers = 0;  // flat tets on a hex/prism quad face, merged into it
