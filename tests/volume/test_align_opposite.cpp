@@ -4,12 +4,12 @@
 // and the NC share falls; the mesh is byte-identical for 1 and 2 threads.
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+
+#include "tests/cad/cad_test_util.hpp"
 
 namespace hexfem {
 namespace {
@@ -17,15 +17,12 @@ namespace {
 // `hexfem mesh` of the impeller at h = diagonal / 60 with the given switches and thread count;
 // the --json report, the mesh in `file`.
 nlohmann::json mesh_impeller(const std::string& switches, int threads, const std::string& file) {
-  const std::string cmd = "OMP_NUM_THREADS=" + std::to_string(threads) + " " +
-                          std::string(HEXFEM_BINARY) + " mesh " + HEXFEM_TEST_DATA +
-                          "/1385_Laufrad_1000.stp --h 32.02 --json -o " + file + " " + switches +
-                          " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
   std::string out;
-  std::array<char, 4096> buf;
-  while (p && fgets(buf.data(), buf.size(), p)) out += buf.data();
-  EXPECT_EQ(p ? pclose(p) : -1, 0) << out;
+  EXPECT_EQ(cadtest::run_cli("mesh " + cadtest::data("1385_Laufrad_1000.stp") +
+                                 " --h 32.02 --json -o " + file + " " + switches,
+                             &out, "OMP_NUM_THREADS=" + std::to_string(threads)),
+            0)
+      << out;
   const auto brace = out.find('{');
   return brace == std::string::npos ? nlohmann::json{} : nlohmann::json::parse(out.substr(brace));
 }

@@ -4,9 +4,7 @@
 // it to hold.
 #include <gtest/gtest.h>
 
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -14,6 +12,7 @@
 #include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/surface_pipeline.hpp"
 #include "mesher/volume_pipeline.hpp"
+#include "tests/cad/cad_test_util.hpp"
 
 namespace hexfem {
 namespace {
@@ -80,15 +79,13 @@ namespace {
 
 // `hexfem mesh` of the cylinder at h = 1.55 with the given --max-gap: the --json report.
 nlohmann::json mesh_cylinder(const std::string& max_gap) {
-  const std::string cmd = std::string(HEXFEM_BINARY) + " mesh " + HEXFEM_TEST_DATA +
-                          "/cylinder.stp --h 1.55 --json -o " + HEXFEM_WORK_DIR +
-                          "/gap_cylinder.msh" + (max_gap.empty() ? "" : " --max-gap " + max_gap) +
-                          " 2>/dev/null";
-  FILE* p = popen(cmd.c_str(), "r");
   std::string out;
-  std::array<char, 4096> buf;
-  while (p && fgets(buf.data(), buf.size(), p)) out += buf.data();
-  EXPECT_EQ(p ? pclose(p) : -1, 0) << out;
+  EXPECT_EQ(cadtest::run_cli("mesh " + cadtest::data("cylinder.stp") + " --h 1.55 --json -o " +
+                                 cadtest::work("gap_cylinder.msh").string() +
+                                 (max_gap.empty() ? "" : " --max-gap " + max_gap),
+                             &out),
+            0)
+      << out;
   const auto brace = out.find('{');
   return brace == std::string::npos ? nlohmann::json{} : nlohmann::json::parse(out.substr(brace));
 }
