@@ -154,6 +154,10 @@ int run(const Args& a) {
     const bool order_given = a.modal.order_given && a.modal.order_given->count() > 0;
     if (order_given && a.modal.order == 2 && mesh.order == 1)
       part.order2 = raise_to_order2(mesh, nullptr);  // no geometry: straight edges
+    if (order_given && a.modal.order == 1 && mesh.order == 2)
+      throw Error("--order 1: '" + a.mesh +
+                  "' is a second-order mesh (its mid-edge nodes would be dropped); mesh the CAD "
+                  "part with --order 1 instead");
     r = solve_modal(mesh, opt);
   }
   const Units shown = cad_input ? Units{"mm", 1e-3} : units;

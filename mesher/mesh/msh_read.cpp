@@ -106,6 +106,8 @@ int nodes_of_msh_type(int type) {
       return 1;
     case 1:
       return 2;
+    case 8:  // line3: skipped like lines
+      return 3;
     case 2:
       return 3;
     case 3:
@@ -118,8 +120,42 @@ int nodes_of_msh_type(int type) {
       return 6;
     case 7:
       return 5;
+    case 9:  // order 2: tri6, quad8, tet10, hex20, prism15, pyramid13
+      return 6;
+    case 16:
+      return 8;
+    case 11:
+      return 10;
+    case 17:
+      return 20;
+    case 18:
+      return 15;
+    case 19:
+      return 13;
     default:
       return -1;
+  }
+}
+
+// The order of a surface or volume element type (0 for points and lines).
+int order_of_msh_type(int type) {
+  switch (type) {
+    case 2:
+    case 3:
+    case 4:
+    case 5:
+    case 6:
+    case 7:
+      return 1;
+    case 9:
+    case 16:
+    case 11:
+    case 17:
+    case 18:
+    case 19:
+      return 2;
+    default:
+      return 0;
   }
 }
 
@@ -144,36 +180,45 @@ struct Reader {
     return 0;
   }
 
+  // 0 until the first surface or volume element; then its order, which every other must share.
+  int order = 0;
+
   void add_element(int type, int elementary, int physical, const long* tags) {
-    std::int32_t ids[8];
+    std::int32_t ids[kMaxElementNodes];
     const int n = nodes_of_msh_type(type);
-    if ((type == 2 || type == 3) && physical != 0 && physical == nc_physical()) return;
+    const bool face = type == 2 || type == 3 || type == 9 || type == 16;
+    if (face && physical != 0 && physical == nc_physical()) return;
     if (n < 0)
       in.fail("element type " + std::to_string(type) +
-              " is not supported (only first-order points, lines, triangles, quads, tets, hexes, "
-              "prisms, pyramids)");
+              " is not supported (only points, lines, triangles, quads, tets, hexes, prisms, "
+              "pyramids, of order 1 or 2)");
+    const int element_order = order_of_msh_type(type);
+    if (element_order == 0) return;  // points and lines carry nothing we keep
+    if (order == 0) {
+      order = element_order;
+      mesh.order = order;
+    } else if (element_order != order) {
+      in.fail("the mesh mixes elements of order 1 and 2");
+    }
     for (int i = 0; i < n; ++i) ids[i] = node(tags[i]);
-    switch (type) {
-      case 2:
-        mesh.add_bface(ids[0], ids[1], ids[2], -1, elementary, physical);
-        break;
-      case 3:
-        mesh.add_bface(ids[0], ids[1], ids[2], ids[3], elementary, physical);
-        break;
-      case 4:
-        mesh.add_cell(CellKind::Tet4, ids, elementary, physical);
-        break;
-      case 5:
-        mesh.add_cell(CellKind::Hex8, ids, elementary, physical);
-        break;
-      case 6:
-        mesh.add_cell(CellKind::Wedge6, ids, elementary, physical);
-        break;
-      case 7:
-        mesh.add_cell(CellKind::Pyramid5, ids, elementary, physical);
-        break;
-      default:
-        break;  // points and lines carry nothing we keep
+    if (face) {
+      const bool quad = type == 3 || type == 16;
+      mesh.add_bface(ids[0], ids[1], ids[2], quad ? ids[3] : -1, elementary, physical);
+      if (order == 2) {  // tri6 / quad8: corners, then the node of edge (v_i, v_i+1) at slot i
+        const int nc = quad ? 4 : 3;
+        for (int i = 0; i < 4; ++i) mesh.bface_edge_nodes.push_back(i < nc ? ids[nc + i] : -1);
+      }
+      return;
+    }
+    const CellKind kind = type == 4 || type == 11   ? CellKind::Tet4
+                          : type == 5 || type == 17 ? CellKind::Hex8
+                          : type == 6 || type == 18 ? CellKind::Wedge6
+                                                    : CellKind::Pyramid5;
+    mesh.add_cell(kind, ids, elementary, physical);
+    if (order == 2) {  // corners, then the mid-edge nodes in Gmsh's (element_topology.hpp) order
+      const int nc = num_nodes(kind), ne = num_edges(kind);
+      for (int i = 0; i < kMaxCellEdges; ++i)
+        mesh.cell_edge_nodes.push_back(i < ne ? ids[nc + i] : -1);
     }
   }
 
@@ -286,7 +331,7 @@ struct Reader {
   void elements41() {
     const auto [blocks, total] = section_header("element");
     std::uint64_t seen = 0;
-    long tags[9];
+    long tags[kMaxElementNodes + 1];
     for (std::uint64_t b = 0; b < blocks; ++b) {
       int dim, entity, type;
       std::uint64_t n;
@@ -342,7 +387,7 @@ struct Reader {
 
   void elements22() {
     const long n = in.integer("number of elements");
-    long tags[9];
+    long tags[kMaxElementNodes + 1];
     for (long e = 0; e < n; ++e) {
       in.integer("element tag");
       const int type = static_cast<int>(in.integer("element type"));

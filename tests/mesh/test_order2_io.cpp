@@ -4,12 +4,15 @@
 // (tests/data/order2_readers.py); gmsh reads the MSH and finds every element's Jacobian positive.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <regex>
 #include <sstream>
 
 #include "mesh_fixtures.hpp"
 #include "mesher/high_order_nodes.hpp"
+#include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 
 namespace hexfem {
@@ -89,6 +92,54 @@ TEST(Order2Io, GmshFindsEveryJacobianPositive) {
   EXPECT_GT(std::stod(match[1].str()), 0.999) << out;
   EXPECT_NE(out.find("Volume 1: checking the Jacobian of 2 elements"), std::string::npos) << out;
   EXPECT_NE(out.find("Volume 2: checking the Jacobian of 3 elements"), std::string::npos) << out;
+}
+
+// Largest |mid-edge node - edge midpoint| over every cell edge and boundary face edge of `m`.
+double worst_midpoint_offset(const MixedMesh& m) {
+  double worst = 0;
+  auto check = [&](std::int32_t a, std::int32_t b, std::int32_t mid) {
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(m.nodes[mid][c] - 0.5 * (m.nodes[a][c] + m.nodes[b][c])));
+  };
+  for (std::size_t c = 0; c < m.num_cells(); ++c)
+    for (int e = 0; e < num_edges(m.cell_kind[c]); ++e) {
+      const auto& ed = edges_of(m.cell_kind[c])[e];
+      check(m.cell(c)[ed[0]], m.cell(c)[ed[1]], m.cell_edges(c)[e]);
+    }
+  for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
+    const int n = m.bface_is_quad(f) ? 4 : 3;
+    for (int i = 0; i < n; ++i)
+      check(m.bface(f)[i], m.bface(f)[(i + 1) % n], m.bface_edge_nodes[4 * f + i]);
+  }
+  return worst;
+}
+
+// hexfem reads second-order MSH back: its own export gives the same arrays, and a Gmsh P2 mesh
+// of a box (tet10, tri6 and line3 elements; every edge straight) puts each mid-edge node at the
+// midpoint of the edge it belongs to in element_topology.hpp's order, which checks that order
+// against Gmsh's own.
+TEST(Order2Io, SecondOrderMshReadsBack) {
+  const MixedMesh m = order2_sample();
+  const auto own = work_path("o2_readback.msh");
+  write_mesh(m, own);
+  const MixedMesh back = read_mesh(own);
+  EXPECT_EQ(back.order, 2);
+  EXPECT_EQ(back.cell_nodes, m.cell_nodes);
+  EXPECT_EQ(back.cell_edge_nodes, m.cell_edge_nodes);
+  EXPECT_EQ(back.bface_nodes, m.bface_nodes);
+  EXPECT_EQ(back.bface_edge_nodes, m.bface_edge_nodes);
+
+  const auto geo = work_path("o2_box.geo"), msh = work_path("o2_box.msh");
+  testing::write_file(geo,
+                      "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 4, 2, 1};\n"
+                      "Mesh.ElementOrder = 2;\nMesh.MeshSizeMax = 0.8;\nMesh.SaveAll = 1;\n");
+  std::string out;
+  ASSERT_EQ(run("gmsh -3 -format msh41 -o " + msh.string() + " " + geo.string(), &out), 0) << out;
+  const MixedMesh g = read_mesh(msh);
+  EXPECT_EQ(g.order, 2);
+  ASSERT_GT(g.num_cells(), 10u);
+  EXPECT_GT(g.num_bfaces(), 10u);
+  EXPECT_LT(worst_midpoint_offset(g), 1e-9);
 }
 
 }  // namespace
