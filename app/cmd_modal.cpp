@@ -138,6 +138,7 @@ int run(const Args& a) {
 
   // A CAD part is meshed first (lengths in mm) and solved in the same process.
   MixedMesh mesh;
+  bool read_order2 = false;  // a second-order mesh file: its own mid-edge nodes, none made
   ModalResult r;
   PartModalResult part;
   if (cad_input) {
@@ -151,6 +152,7 @@ int run(const Args& a) {
                  mesh_write_options(mesh, a.mesh_out, false, &part.mesh_report.warnings));
   } else {
     mesh = read_mesh(a.mesh);
+    read_order2 = mesh.order == 2;
     const bool order_given = a.modal.order_given && a.modal.order_given->count() > 0;
     if (order_given && a.modal.order == 2 && mesh.order == 1)
       part.order2 = raise_to_order2(mesh, nullptr);  // no geometry: straight edges
@@ -206,7 +208,10 @@ int run(const Args& a) {
     j["hex8"] = a.modal.hex8;
     j["order"] = mesh.order;
     j["elements"] = element_formulations(mesh.order, opt.incompatible_hex);
-    if (mesh.order == 2) j["order2"] = part.order2;
+    if (read_order2)
+      j["order2"] = {{"mid_edge_nodes", "as read"}};
+    else if (mesh.order == 2)
+      j["order2"] = part.order2;
     j["units"] = {{"length", shown.name == "SI" ? "m" : "mm"},
                   {"scale_to_m", shown.scale},
                   {"material", "SI (Pa, kg/m^3)"},
@@ -239,7 +244,9 @@ int run(const Args& a) {
         part.mesh_report.volume_error, part.mesh_seconds, part.mesh_peak_bytes / 1e9,
         a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
   std::printf("elements  %s\n", element_formulations(mesh.order, opt.incompatible_hex).c_str());
-  if (mesh.order == 2)
+  if (read_order2)
+    std::printf("order 2   the mid-edge nodes as read from %s\n", a.mesh.c_str());
+  else if (mesh.order == 2)
     std::printf(
         "order 2   %ld mid-edge nodes, %ld on the boundary, %ld curved onto the CAD geometry "
         "(largest offset %.3f edge lengths, %ld projections refused), %ld cells straightened; "

@@ -184,6 +184,7 @@ TEST(Order2Modal, ItsOwnSecondOrderExportSolvesTheSame) {
   ASSERT_EQ(code, 0) << out;
   const nlohmann::json file = nlohmann::json::parse(out.substr(out.find('{')));
   EXPECT_EQ(file["order"], 2);
+  EXPECT_EQ(file["order2"]["mid_edge_nodes"], "as read");
   EXPECT_EQ(file["free_dofs"], cad["free_dofs"]);
   for (int m = 0; m < 4; ++m) {
     const double fc = cad["modes"][m]["frequency_hz"], ff = file["modes"][m]["frequency_hz"];
