@@ -156,10 +156,14 @@ int run(const Args& a) {
     const bool order_given = a.modal.order_given && a.modal.order_given->count() > 0;
     if (order_given && a.modal.order == 2 && mesh.order == 1)
       part.order2 = raise_to_order2(mesh, nullptr);  // no geometry: straight edges
-    if (order_given && a.modal.order == 1 && mesh.order == 2)
-      throw Error("--order 1: '" + a.mesh +
-                  "' is a second-order mesh (its mid-edge nodes would be dropped); mesh the CAD "
-                  "part with --order 1 instead");
+    if (order_given && a.modal.order == 1 && mesh.order == 2) {
+      // Order 1 on a second-order mesh: its corners only; the mid-edge nodes are left unused
+      // (no DOF is numbered for a node no cell holds).
+      mesh.order = 1;
+      mesh.cell_edge_nodes.clear();
+      mesh.bface_edge_nodes.clear();
+      read_order2 = false;
+    }
     r = solve_modal(mesh, opt);
   }
   const Units shown = cad_input ? Units{"mm", 1e-3} : units;
