@@ -328,11 +328,11 @@ void align_opposite_faces(const CadModel& cad, const EdgePoints& edges, FaceWork
       if (!po.seeds.empty()) w.pts[k] = pack_face(cad, *w.field[k], w.boundary[k], edges, po);
     }
     normals[k].resize(w.pts[k].xyz.size());
-    for (std::size_t i = 0; i < w.pts[k].xyz.size(); ++i)
+    for (std::size_t i = 0; i < w.pts[k].xyz.size(); ++i) {
       normals[k][i] = cad.normal(w.faces[k], w.pts[k].uv[i]);
-    for (std::size_t i = 0; i < w.pts[k].xyz.size(); ++i)
       grid[cell(w.pts[k].xyz[i], 0, 0, 0)].push_back(
           {static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(i)});
+    }
   }
 }
 

@@ -2,10 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <deque>
 #include <string>
-#include <unordered_map>
 
 #include "mesher/mesh/error.hpp"
 #include "mesher/rtree2d.hpp"
@@ -220,7 +218,9 @@ std::vector<Vec2> opposite_seeds(const CadModel& cad, const FaceField& field,
     // a planar wall are coplanar, and TetGen may join them by a flat tet that no element
     // absorbs (seen on 40mm_capot).
     Vec2 du;
-    const Vec3 shift = v3::scaled(v3::sub(fr.d1, v3::scaled(fr.d2, -0.5)), 0.05 * fr.h);
+    const double s = 0.05 * fr.h;
+    const Vec3 shift{s * (fr.d1[0] + 0.5 * fr.d2[0]), s * (fr.d1[1] + 0.5 * fr.d2[1]),
+                     s * (fr.d1[2] + 0.5 * fr.d2[2])};
     if (!parametric_step(fr, shift, du)) continue;
     seeds.push_back({uv[0] + du[0], uv[1] + du[1]});
   }

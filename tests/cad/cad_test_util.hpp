@@ -8,6 +8,8 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace hexfem::cadtest {
@@ -17,6 +19,14 @@ inline std::string data(const std::string& name) {
 }
 inline std::filesystem::path work(const std::string& name) {
   return std::filesystem::path(HEXFEM_WORK_DIR) / name;
+}
+
+// The whole file's bytes (empty when it cannot be read).
+inline std::string file_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 // Runs `hexfem args` with stderr merged into stdout, with `env` ("NAME=value ...") set;

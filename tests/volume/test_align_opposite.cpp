@@ -4,9 +4,7 @@
 // and the NC share falls; the mesh is byte-identical for 1 and 2 threads.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "tests/cad/cad_test_util.hpp"
@@ -27,13 +25,6 @@ nlohmann::json mesh_impeller(const std::string& switches, int threads, const std
   return brace == std::string::npos ? nlohmann::json{} : nlohmann::json::parse(out.substr(brace));
 }
 
-std::string slurp(const std::string& f) {
-  std::ifstream in(f, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // Measured at 4f942cc: H_vol 51.2 -> 71.0 %, NC 18.8 -> 8.2 %. The bounds leave room for small
 // changes elsewhere in the mesher, not for the blades' faces going back to separate lattices.
 TEST(AlignOpposite, ThinBladesCloseIntoHexes) {
@@ -51,7 +42,8 @@ TEST(AlignOpposite, ThinBladesCloseIntoHexes) {
   // Same CAD volume up to the chords of the curved faces, with and without.
   EXPECT_NEAR(two["mesh_volume"].get<double>(), base["mesh_volume"].get<double>(),
               0.01 * base["mesh_volume"].get<double>());
-  EXPECT_EQ(slurp(work + "/laufrad_align_1.msh"), slurp(work + "/laufrad_align_2.msh"));
+  EXPECT_EQ(cadtest::file_bytes(work + "/laufrad_align_1.msh"),
+            cadtest::file_bytes(work + "/laufrad_align_2.msh"));
   EXPECT_EQ(one["h_vol_percent"], two["h_vol_percent"]);
 }
 

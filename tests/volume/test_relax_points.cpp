@@ -8,15 +8,14 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "mesher/frame_field_3d.hpp"
 #include "mesher/solid_locator.hpp"
 #include "mesher/volume_points.hpp"
+#include "tests/cad/cad_test_util.hpp"
 #include "tests/support/synthetic_surfaces.hpp"
 
 namespace hexfem {
@@ -85,13 +84,7 @@ TEST(RelaxPoints, TorusMeshesTheSameForOneAndTwoThreads) {
     EXPECT_EQ(j["inverted"], 0);
     EXPECT_GT(j["h_vol_percent"].get<double>(), 40);
   }
-  auto slurp = [](const std::string& f) {
-    std::ifstream in(f, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
-  EXPECT_EQ(slurp(files[0]), slurp(files[1]));
+  EXPECT_EQ(cadtest::file_bytes(files[0]), cadtest::file_bytes(files[1]));
 }
 
 }  // namespace
