@@ -118,6 +118,8 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
       throw Error("--relax-points is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.align_opposite != -1)
       throw Error("--align-opposite is for CAD input; '" + a.mesh + "' is already a mesh");
+    if (a.modal.no_pyramids)
+      throw Error("--no-pyramids is for CAD input; '" + a.mesh + "' is already a mesh");
   }
   if (!a.mesh_out.empty())
     check_output_file("--mesh-out", a.mesh_out, {"msh", "vtu", "inp"}, {a.mesh});
@@ -282,9 +284,10 @@ int run(const Args& a) {
   else
     std::printf(
         "solver    direct (CHOLMOD + Spectra; %s): order %.2f s, assembly %.2f s, factorization "
-        "%.2f s, Lanczos %.2f s, max residual %.1e, peak memory %.2f GB\n\n",
+        "%.2f s (factor %.2f GB), Lanczos %.2f s, max residual %.1e, peak memory %.2f GB\n\n",
         r.solver_reason.c_str(), r.order_seconds, r.assemble_seconds, r.eigen.factor_seconds,
-        r.eigen.solve_seconds, r.eigen.max_residual, r.eigen.peak_memory_bytes / 1e9);
+        r.eigen.factor_bytes / 1e9, r.eigen.solve_seconds, r.eigen.max_residual,
+        r.eigen.peak_memory_bytes / 1e9);
   std::printf("mode  frequency [Hz]   effective mass [%% of total]\n");
   std::printf("                          x         y         z\n");
   double sum[3] = {0, 0, 0};

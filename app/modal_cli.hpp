@@ -32,6 +32,9 @@ struct ModalCliOptions {
   // --align-opposite T, CAD input: the faces of walls up to T sizes thick packed from the same
   // points (a mesher study switch, surface_points.hpp); -1 (not given) is off.
   double align_opposite = -1;
+  // --no-pyramids, CAD input: the mesher makes no pyramids (quad faces against two triangles
+  // stay NC); at order 2 such a face is tied (fem/nc_ties.hpp).
+  bool no_pyramids = false;
   CLI::Option* order_given = nullptr;
   CLI::Option* hex8_given = nullptr;
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;

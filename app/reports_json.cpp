@@ -23,9 +23,13 @@ void to_json(nlohmann::json& j, const ModalResult& r) {
                            {r.effective_mass_fraction(i, 0), r.effective_mass_fraction(i, 1),
                             r.effective_mass_fraction(i, 2)}}});
   }
-  j["solver"] = {{"order_s", r.order_seconds},          {"assemble_s", r.assemble_seconds},
-                 {"factor_s", r.eigen.factor_seconds},  {"stiffness_nnz", r.stiffness_nnz},
-                 {"factor_nnz", r.eigen.factor_nnz},    {"shift", r.eigen.sigma},
+  j["solver"] = {{"order_s", r.order_seconds},
+                 {"assemble_s", r.assemble_seconds},
+                 {"factor_s", r.eigen.factor_seconds},
+                 {"stiffness_nnz", r.stiffness_nnz},
+                 {"factor_nnz", r.eigen.factor_nnz},
+                 {"factor_bytes", r.eigen.factor_bytes},
+                 {"shift", r.eigen.sigma},
                  {"max_residual", r.eigen.max_residual}};
   j["solver"]["method"] = r.eigen.method;
   if (!r.eigen.algorithm.empty()) j["solver"]["algorithm"] = r.eigen.algorithm;

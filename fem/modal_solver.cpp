@@ -36,6 +36,16 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// MemAvailable of /proc/meminfo [bytes]; 0 when unknown.
+double available_memory_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key, unit;
+  double kb = 0;
+  while (in >> key >> kb >> unit)
+    if (key == "MemAvailable:") return kb * 1024;
+  return 0;
+}
+
 // y = (K - σM)^-1 x for Spectra, factorized once per shift. K and M share one pattern, so
 // K - σM is formed on the values alone. With set_scale(s) it acts for the scaled pencil (K/s, M):
 // Spectra then sees Ritz values 1/(λ/s - σ') of order one. Its tests have absolute floors
@@ -45,7 +55,9 @@ class ShiftInvertOp {
  public:
   using Scalar = double;
 
-  ShiftInvertOp(const SparseMatrix& K, const SparseMatrix& M, bool preordered) : K_(K), M_(M) {
+  ShiftInvertOp(const SparseMatrix& K, const SparseMatrix& M, bool preordered,
+                double max_factor_bytes)
+      : K_(K), M_(M), max_factor_bytes_(max_factor_bytes) {
 #ifdef HEXFEM_HAVE_CHOLMOD
     // One ordering, chosen here: CHOLMOD's default suite can settle for AMD, which on slender
     // 3D meshes costs tens of times METIS's flops.
@@ -74,7 +86,12 @@ class ShiftInvertOp {
     A_ = K_;
     Eigen::Map<Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros()) -=
         sigma * Eigen::Map<const Eigen::VectorXd>(M_.valuePtr(), M_.nonZeros());
-    solver_.compute(A_);
+    if (!analyzed_) {
+      solver_.analyzePattern(A_);
+      analyzed_ = true;
+      check_factor_fits();
+    }
+    solver_.factorize(A_);
     if (solver_.info() != Eigen::Success)
       throw Error("factorization of K - sigma*M failed (sigma = " + std::to_string(sigma) +
                   "): the model is not positive definite after the shift");
@@ -109,6 +126,9 @@ class ShiftInvertOp {
   long factor_nnz() const {
     return factor_nnz_;
   }
+  double factor_bytes() const {
+    return factor_bytes_;
+  }
   double factor_flops() const {
     return factor_flops_;
   }
@@ -117,13 +137,47 @@ class ShiftInvertOp {
   }
 
  private:
+#ifdef HEXFEM_HAVE_CHOLMOD
+  // Eigen keeps CHOLMOD's factor to itself; its symbolic part tells the numeric size.
+  struct Supernodal : Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
+    const cholmod_factor* factor() const { return m_cholmodFactor; }
+  };
+#endif
+
+  // After the symbolic analysis: the numeric factor's values and indices plus the largest
+  // supernodal update (CHOLMOD's workspace), against the limit. A compact 3D part at order 2
+  // needs several times what a slender one of the same DOF count does (ANC101, 589k DOF: over
+  // 24 GB), so no formula in the DOF count can stand in for this.
+  void check_factor_fits() {
+#ifdef HEXFEM_HAVE_CHOLMOD
+    const cholmod_factor* L = solver_.factor();
+    if (!L) return;
+    const double values = L->is_super ? static_cast<double>(L->xsize + L->maxcsize)
+                                      : static_cast<double>(solver_.cholmod().lnz);
+    factor_bytes_ = 8.0 * values + 8.0 * static_cast<double>(L->is_super ? L->ssize : 0);
+    double limit = max_factor_bytes_;
+    if (!(limit > 0)) limit = 0.9 * available_memory_bytes();
+    if (limit > 0 && factor_bytes_ > limit) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "the direct solver's factor needs %.3g GB, more than the %.3g GB available "
+                    "(%ld DOFs): use --solver iterative, or a larger --h",
+                    factor_bytes_ / 1e9, limit / 1e9, static_cast<long>(K_.rows()));
+      throw FactorTooLarge(buf);
+    }
+#endif
+  }
+
   const SparseMatrix& K_;
   const SparseMatrix& M_;
+  double max_factor_bytes_ = 0;
+  bool analyzed_ = false;
+  double factor_bytes_ = 0;
   SparseMatrix A_;
   const Eigen::MatrixXd* Z_ = nullptr;
   double scale_ = 1;
 #ifdef HEXFEM_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> solver_;
+  Supernodal solver_;
 #else
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> solver_;
 #endif
@@ -188,16 +242,6 @@ void reject_invalid_cells(const MixedMesh& mesh) {
     throw Error("the mesh has " + std::to_string(degenerate) +
                 " degenerate (flat) cell(s) with scaled Jacobian below 1e-6 " +
                 first(first_degenerate) + "; fix the mesh before a modal analysis");
-}
-
-// MemAvailable of /proc/meminfo [bytes]; 0 when unknown.
-double available_memory_bytes() {
-  std::ifstream in("/proc/meminfo");
-  std::string key, unit;
-  double kb = 0;
-  while (in >> key >> kb >> unit)
-    if (key == "MemAvailable:") return kb * 1024;
-  return 0;
 }
 
 // --solver auto: the direct path while it is fast and its factor fits, the iterative one
@@ -285,7 +329,7 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
   }
   const long nl = nev - nz;  // modes left to the Lanczos iteration
 
-  ShiftInvertOp op(K, M, options.preordered);
+  ShiftInvertOp op(K, M, options.preordered, options.max_factor_bytes);
   op.set_deflation(&Z);
   op.set_scale(lambda_scale);
   using BOp = Spectra::SparseSymMatProd<double, Eigen::Lower, Eigen::ColMajor, long>;
@@ -323,6 +367,7 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
   res.factor_seconds = op.factor_seconds();
   res.solve_seconds = seconds_since(t0) - res.factor_seconds;
   res.factor_nnz = op.factor_nnz();
+  res.factor_bytes = op.factor_bytes();
   res.factor_flops = op.factor_flops();
   res.eigenvalues = std::move(lambda);
   res.vectors = std::move(phi);
@@ -342,60 +387,13 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
   return res;
 }
 
-ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
-  validate(options.material);
-  if (!(options.length_scale > 0) || !std::isfinite(options.length_scale))
-    throw Error("length scale must be positive");
-  if (mesh.num_cells() == 0) throw Error("the mesh has no volume cells");
-  if (options.num_modes < 1)
-    throw Error("the number of modes must be at least 1 (got " + std::to_string(options.num_modes) +
-                ")");
-  reject_invalid_cells(mesh);
+namespace {
 
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<std::uint8_t> fixed = select_fixed_dofs(mesh, options.fix);
-  check_every_part_is_held(mesh, fixed);
-  SolverChoice path = options.solver;
-  std::string reason = path == SolverChoice::Direct ? "--solver direct" : "--solver iterative";
-  if (path != SolverChoice::Direct) {
-    std::vector<std::uint8_t> used(mesh.nodes.size(), 0);
-    for (const auto* list : {&mesh.cell_nodes, &mesh.cell_edge_nodes})
-      for (std::int32_t v : *list)
-        if (v >= 0) used[v] = 1;
-    long free_dofs = 0;
-    for (std::size_t i = 0; i < fixed.size(); ++i) free_dofs += used[i / 3] && !fixed[i];
-    if (free_dofs == 0) throw Error("every DOF is fixed: nothing to analyse");
-    if (options.num_modes >= free_dofs)
-      throw Error("requested " + std::to_string(options.num_modes) + " modes but the model has " +
-                  std::to_string(free_dofs) + " free DOFs (at most " +
-                  std::to_string(free_dofs - 1) + " modes)");
-    bool direct_fits = false;
-    const bool automatic = path == SolverChoice::Auto;
-    if (automatic)
-      path = pick_solver(free_dofs, mesh.order, options.auto_direct_max_dofs, reason, &direct_fits);
-    if (path == SolverChoice::Iterative && automatic && direct_fits) {
-      // LOBPCG + GAMG stalls on some parts (40mm_capot at order 2, 411k DOF: 0 of 2 modes after
-      // 200 iterations, then Krylov-Schur past 10 min; the direct path takes 72 s, 5.4 GB).
-      // Where the factor fits, a LOBPCG that has converged nothing after kAutoStallIterations
-      // hands over to the direct path instead of to Krylov-Schur.
-      ModalOptions first = options;
-      first.iterative.krylov_schur_fallback = false;
-      first.iterative.stall_iterations = kAutoStallIterations;
-      try {
-        ModalResult r = solve_modal_iterative(mesh, first, fixed);
-        r.solver_reason = reason;
-        return r;
-      } catch (const Error& e) {
-        reason += std::string("; then direct, since the iterative path failed: ") + e.what();
-        path = SolverChoice::Direct;
-      }
-    }
-    if (path == SolverChoice::Iterative) {
-      ModalResult r = solve_modal_iterative(mesh, options, fixed);
-      r.solver_reason = reason;
-      return r;
-    }
-  }
+// The direct path: CHOLMOD + Spectra shift-invert on the assembled K and M. Throws
+// FactorTooLarge before allocating a factor the machine cannot hold.
+ModalResult solve_modal_direct(const MixedMesh& mesh, const ModalOptions& options,
+                               const std::vector<std::uint8_t>& fixed, const std::string& reason,
+                               std::chrono::steady_clock::time_point t0) {
   const auto t_order = std::chrono::steady_clock::now();
 #ifdef HEXFEM_HAVE_CHOLMOD
   const std::vector<std::int32_t> order = fill_reducing_node_order(mesh);
@@ -454,6 +452,76 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
   }
   out.eigen.vectors.resize(0, 0);
   return out;
+}
+
+}  // namespace
+
+ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
+  validate(options.material);
+  if (!(options.length_scale > 0) || !std::isfinite(options.length_scale))
+    throw Error("length scale must be positive");
+  if (mesh.num_cells() == 0) throw Error("the mesh has no volume cells");
+  if (options.num_modes < 1)
+    throw Error("the number of modes must be at least 1 (got " + std::to_string(options.num_modes) +
+                ")");
+  reject_invalid_cells(mesh);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<std::uint8_t> fixed = select_fixed_dofs(mesh, options.fix);
+  check_every_part_is_held(mesh, fixed);
+  SolverChoice path = options.solver;
+  std::string reason = path == SolverChoice::Direct ? "--solver direct" : "--solver iterative";
+  if (path != SolverChoice::Direct) {
+    std::vector<std::uint8_t> used(mesh.nodes.size(), 0);
+    for (const auto* list : {&mesh.cell_nodes, &mesh.cell_edge_nodes})
+      for (std::int32_t v : *list)
+        if (v >= 0) used[v] = 1;
+    long free_dofs = 0;
+    for (std::size_t i = 0; i < fixed.size(); ++i) free_dofs += used[i / 3] && !fixed[i];
+    if (free_dofs == 0) throw Error("every DOF is fixed: nothing to analyse");
+    if (options.num_modes >= free_dofs)
+      throw Error("requested " + std::to_string(options.num_modes) + " modes but the model has " +
+                  std::to_string(free_dofs) + " free DOFs (at most " +
+                  std::to_string(free_dofs - 1) + " modes)");
+    bool direct_fits = false;
+    const bool automatic = path == SolverChoice::Auto;
+    if (automatic)
+      path = pick_solver(free_dofs, mesh.order, options.auto_direct_max_dofs, reason, &direct_fits);
+    if (path == SolverChoice::Iterative && automatic && direct_fits) {
+      // LOBPCG + GAMG stalls on some parts (40mm_capot at order 2, 411k DOF: 0 of 2 modes after
+      // 200 iterations, then Krylov-Schur past 10 min; the direct path takes 72 s, 5.4 GB).
+      // Where the factor fits, a LOBPCG that has converged nothing after kAutoStallIterations
+      // hands over to the direct path instead of to Krylov-Schur.
+      ModalOptions first = options;
+      first.iterative.krylov_schur_fallback = false;
+      first.iterative.stall_iterations = kAutoStallIterations;
+      try {
+        ModalResult r = solve_modal_iterative(mesh, first, fixed);
+        r.solver_reason = reason;
+        return r;
+      } catch (const Error& e) {
+        reason += std::string("; then direct, since the iterative path failed: ") + e.what();
+        path = SolverChoice::Direct;
+      }
+    }
+    if (path == SolverChoice::Iterative) {
+      ModalResult r = solve_modal_iterative(mesh, options, fixed);
+      r.solver_reason = reason;
+      return r;
+    }
+    if (automatic) {  // direct by the estimate; CHOLMOD's analysis has the last word
+      try {
+        return solve_modal_direct(mesh, options, fixed, reason, t0);
+      } catch (const FactorTooLarge& e) {
+        if (reason.find("iterative path failed") != std::string::npos)
+          throw Error(reason + "; " + e.what());
+        ModalResult r = solve_modal_iterative(mesh, options, fixed);
+        r.solver_reason = reason + "; then iterative, since " + e.what();
+        return r;
+      }
+    }
+  }
+  return solve_modal_direct(mesh, options, fixed, reason, t0);
 }
 
 }  // namespace hexfem

@@ -9,6 +9,7 @@
 #include "fem/assembly.hpp"
 #include "fem/iterative_settings.hpp"
 #include "fem/material.hpp"
+#include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
 
 namespace hexfem {
@@ -28,6 +29,15 @@ struct EigenOptions {
   // Known zero-energy modes (columns over the DOFs, e.g. rigid_motions_of_parts): returned first
   // as Ritz pairs of their span, and projected out of the Lanczos iteration.
   Eigen::MatrixXd deflation;
+  // Largest factor the direct path may allocate [bytes]; 0 = 90 % of the memory available when
+  // it is about to factorize (MemAvailable). CHOLMOD's symbolic analysis gives the exact size
+  // first, so a model too big for the machine is refused instead of killed for want of memory.
+  double max_factor_bytes = 0;
+};
+
+// The direct path's factor would not fit in memory (EigenOptions::max_factor_bytes).
+struct FactorTooLarge : Error {
+  using Error::Error;
 };
 
 struct EigenResult {
@@ -35,6 +45,7 @@ struct EigenResult {
   Eigen::MatrixXd vectors;      // free DOFs x modes, M-orthonormal
   double sigma = 0;
   long factor_nnz = 0;      // entries of the Cholesky factor
+  double factor_bytes = 0;  // the factor's memory (values, indices, update workspace)
   double factor_flops = 0;  // CHOLMOD's flop count of the factorization
   long iterations = 0;      // Lanczos restarts
   long operations = 0;      // applications of (K - σM)^-1

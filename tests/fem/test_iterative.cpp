@@ -208,5 +208,37 @@ TEST(Iterative, AutoHandsAStalledLobpcgToTheDirectPath) {
     EXPECT_NEAR(it.frequencies[i], direct.frequencies[i], 1e-6 * direct.frequencies[i]);
 }
 
+// A factor the machine cannot hold is refused after CHOLMOD's symbolic analysis, before it is
+// allocated (ANC101 at order 2, 589k DOF: 22 GB against an estimate of 7.8 GB from the DOF count,
+// killed by the kernel after 4 min before this check). The limit is lowered here to a size this
+// small box needs more than: --solver direct gets a one-line error naming the way out, --solver
+// auto turns to the iterative path, whose frequencies are the unlimited direct path's.
+TEST(Iterative, AFactorTooLargeForTheMemoryIsRefusedOrLeftToTheIterativePath) {
+  const MixedMesh mesh = make_box_mesh({10, 4, 3}, 6, 3, 3, CellKind::Hex8);
+  ModalOptions opt = steel(8, {"x<0.001"}, SolverChoice::Direct);
+  const ModalResult direct = solve_modal(mesh, opt);
+  // Values and indices at least: the supernodal factor stores every entry CHOLMOD counts.
+  EXPECT_GE(direct.eigen.factor_bytes, 8.0 * static_cast<double>(direct.eigen.factor_nnz));
+  opt.eigen.max_factor_bytes = 0.5 * direct.eigen.factor_bytes;
+  try {
+    solve_modal(mesh, opt);
+    FAIL() << "a factor over the limit was allocated";
+  } catch (const FactorTooLarge& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("the direct solver's factor needs"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("--solver iterative"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  opt.solver = SolverChoice::Auto;  // 189 DOFs: direct by the DOF count
+  const ModalResult r = solve_modal(mesh, opt);
+  EXPECT_EQ(r.eigen.method, "iterative");
+  EXPECT_NE(r.solver_reason.find("then iterative, since the direct solver's factor needs"),
+            std::string::npos)
+      << r.solver_reason;
+  ASSERT_EQ(r.frequencies.size(), direct.frequencies.size());
+  for (std::size_t i = 0; i < r.frequencies.size(); ++i)
+    EXPECT_NEAR(r.frequencies[i], direct.frequencies[i], 1e-6 * direct.frequencies[i]);
+}
+
 }  // namespace
 }  // namespace hexfem
