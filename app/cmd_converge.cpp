@@ -46,7 +46,7 @@ int run(const ConvergeArgs& a) {
     study.reference = read_reference_json(a.reference);
     study.reference_source = a.reference;
   }
-  const CadModel cad = CadModel::read(a.file);
+  const CadModel cad = CadModel::read(a.file, CadReadOptions{a.modal.glue});
   check_fixed_faces_exist(cad, a.modal.fix);
 
   std::vector<std::pair<std::string, std::string>> solvers;  // per row: path taken, why

@@ -76,11 +76,15 @@ RegisterCommand reg{{"info", "List the solids and faces of a CAD file (ids, type
                      [](CLI::App& sub) {
                        auto file = std::make_shared<std::string>();
                        auto json = std::make_shared<bool>(false);
+                       auto glue = std::make_shared<bool>(false);
                        sub.add_option("file", *file, "STEP, IGES or BREP file")->required();
                        sub.add_flag("--json", *json, "print JSON on stdout");
+                       sub.add_flag(
+                           "--glue", *glue,
+                           "the solids as `--glue` bonds them where they touch or overlap");
                        return [=] {
                          check_input_file(*file);
-                         const CadModel cad = CadModel::read(*file);
+                         const CadModel cad = CadModel::read(*file, CadReadOptions{*glue});
                          if (*json)
                            std::printf("%s\n", model_json(*file, cad).dump(2).c_str());
                          else

@@ -33,6 +33,7 @@ struct MeshArgs {
   std::string hex_selection = "greedy";
   bool binary = false;
   double align_opposite = 0;
+  bool glue = false;
 };
 
 int run(const MeshArgs& a) {
@@ -59,6 +60,7 @@ int run(const MeshArgs& a) {
   if (a.dim == 3) {
     VolumeMeshArgs v;
     v.file = a.file;
+    v.options.read.glue = a.glue;
     v.options.surface = opt;
     v.options.volume = a.volume;
     v.options.volume.hex_selection = parse_hex_selection(a.hex_selection);
@@ -71,7 +73,7 @@ int run(const MeshArgs& a) {
   }
 
   auto t0 = Clock::now();
-  const CadModel cad = CadModel::read(a.file);
+  const CadModel cad = CadModel::read(a.file, CadReadOptions{a.glue});
   const double read_s = std::chrono::duration<double>(Clock::now() - t0).count();
   SurfaceReport rep;
   const SurfaceMesh surface = mesh_surface(cad, opt, &rep);
@@ -151,6 +153,9 @@ RegisterCommand reg{
                       "element order: 1 (default) or 2 (mid-edge nodes on the CAD geometry)");
        sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)");
        sub.add_flag("--json", a->json, "print the report as JSON on stdout");
+       sub.add_flag("--glue", a->glue,
+                    "glue solids that touch or overlap into one bonded assembly (they then share "
+                    "faces; face ids as `hexfem info --glue` lists them)");
        sub.add_flag(
            "--force", a->force,
            "allow more than 1 M surface points or 20 M interior points (estimated before the "

@@ -120,6 +120,7 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
       throw Error("--align-opposite is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.no_pyramids)
       throw Error("--no-pyramids is for CAD input; '" + a.mesh + "' is already a mesh");
+    if (a.modal.glue) throw Error("--glue is for CAD input; '" + a.mesh + "' is already a mesh");
   }
   if (!a.mesh_out.empty())
     check_output_file("--mesh-out", a.mesh_out, {"msh", "vtu", "inp"}, {a.mesh});
@@ -144,7 +145,7 @@ int run(const Args& a) {
   ModalResult r;
   PartModalResult part;
   if (cad_input) {
-    const CadModel cad = CadModel::read(a.mesh);
+    const CadModel cad = CadModel::read(a.mesh, CadReadOptions{a.modal.glue});
     const MeshOptions mesh_options = cad_mesh_options(a.modal, a.h);
     part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
     mesh = std::move(part.mesh);

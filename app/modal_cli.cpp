@@ -48,6 +48,10 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                  "CAD input: pack the two faces of a wall up to T sizes thick from the same points "
                  "(mesher study switch, as on `mesh`)")
       ->check(CLI::Range(0.0, 10.0));
+  sub.add_flag("--glue", o.glue,
+               "CAD input: "
+               "glue solids that touch or overlap into one bonded assembly (they then share faces; "
+               "face ids as `hexfem info --glue` lists them)");
   sub.add_flag("--no-pyramids", o.no_pyramids,
                "CAD input: make no pyramids (a quad face against two triangles stays NC; tied at "
                "order 2)");
@@ -72,6 +76,7 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h) {
   m.volume.relax_points = std::max(0, o.relax_points);
   m.surface.align_opposite = std::max(0.0, o.align_opposite);
   m.volume.no_pyramids = o.no_pyramids;
+  m.read.glue = o.glue;
   return m;
 }
 

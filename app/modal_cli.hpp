@@ -35,6 +35,8 @@ struct ModalCliOptions {
   // --no-pyramids, CAD input: the mesher makes no pyramids (quad faces against two triangles
   // stay NC); at order 2 such a face is tied (fem/nc_ties.hpp).
   bool no_pyramids = false;
+  // --glue, CAD input: solids that touch or overlap fragmented into a bonded assembly.
+  bool glue = false;
   CLI::Option* order_given = nullptr;
   CLI::Option* hex8_given = nullptr;
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;

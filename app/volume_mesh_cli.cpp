@@ -19,7 +19,7 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
   check_mesh_volume(report.mesh_volume, report.cad_volume, a.options.surface.h, a.force);
   Order2Report order2;
   if (a.order == 2) {
-    const CadModel cad = CadModel::read(a.file);
+    const CadModel cad = CadModel::read(a.file, a.options.read);
     order2 = raise_to_order2(mesh, &cad);
   }
   double write_seconds = 0;

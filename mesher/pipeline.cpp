@@ -158,7 +158,7 @@ MixedMesh mesh_file(const std::filesystem::path& path, const MeshOptions& option
                     MeshReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
   show_progress("reading " + path.filename().string() + "...");
-  const CadModel cad = CadModel::read(path);
+  const CadModel cad = CadModel::read(path, options.read);
   MeshReport local;
   MeshReport& r = report ? *report : local;
   r.cad_seconds = seconds_since(t0);

@@ -17,6 +17,7 @@
 namespace hexfem {
 
 struct MeshOptions {
+  CadReadOptions read;     // read.glue: solids that touch fragmented into a bonded assembly
   SurfaceOptions surface;  // surface.h is the target size (mm), surface.force lifts the limits
   VolumeOptions volume;
   double max_volume_points = 20e6;  // estimated interior points (V / h^3) allowed without force

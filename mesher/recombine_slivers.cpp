@@ -122,9 +122,13 @@ std::size_t absorb_face_slivers(RecombineState& s, const std::vector<Candidate>&
   // -1 none, or -2 - tet when it qualifies only if the face is shared. Marking them used is
   // left to the serial pass below, in face order.
   std::vector<std::int32_t> hit(6 * elements.size(), -1);
+  // Only a sliver of the element's own solid: on a face between two glued solids (--glue) the
+  // other solid's sliver is held by that solid's tets, and taking it would open a hole there.
+  const std::vector<std::int32_t>& solid = topo.mesh().tet_solid;
   parallel_for_quad_faces(elements, [&](std::size_t i, int f) {
     const std::int32_t t = by_corners.find(quad_key(elements[i], f));
-    if (t >= 0) hit[6 * i + f] = verdict[t] == 1 ? t : -2 - t;
+    if (t >= 0 && solid[t] == solid[elements[i].tets[0]])
+      hit[6 * i + f] = verdict[t] == 1 ? t : -2 - t;
   });
   // Every face a tet lies on finds it: how many of the elements have its face.
   std::vector<std::uint8_t> faces(used.size(), 0);

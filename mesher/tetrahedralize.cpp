@@ -59,7 +59,8 @@ std::string intersection_message(const SurfaceMesh& surface, const SolidLocator&
     return "solids " + std::to_string(std::min(sa[0], sb[0])) + " and " +
            std::to_string(std::max(sa[0], sb[0])) +
            " of the CAD model touch or overlap (their faces " + std::to_string(fa) + " and " +
-           std::to_string(fb) + " cross); fuse them or mesh each solid on its own";
+           std::to_string(fb) +
+           " cross); add --glue to bond them where they touch, or mesh each solid on its own";
   }
   std::string msg = "the surface mesh intersects itself: ";
   for (std::size_t i = 0; i < pairs.size(); ++i) {

@@ -286,6 +286,7 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   // Flat tets on the surface go; the surface takes their other diagonal.
   SurfaceMesh surface = surface_in;
   r.flat_boundary_tets = drop_flat_boundary_tets(tets, surface, options.flat_tet_quality);
+  r.flat_boundary_tets += flip_flat_interface_tets(tets, surface, options.flat_tet_quality);
   const TetTopology topo(tets, surface);
   RecombineState s(topo, recombine_limits(options));
   r.stages.push_back(timer.lap("tet topology"));

@@ -230,6 +230,18 @@ SliverFlips flip_slivers(RecombineState& s) {
   return out;
 }
 
+std::vector<char> interface_faces(const SurfaceMesh& surface) {
+  std::vector<int> count;
+  for (const auto& faces : surface.faces_of_solid)
+    for (int f : faces) {
+      if (f >= static_cast<int>(count.size())) count.resize(f + 1, 0);
+      ++count[f];
+    }
+  std::vector<char> out(count.size(), 0);
+  for (std::size_t f = 0; f < count.size(); ++f) out[f] = count[f] > 1;
+  return out;
+}
+
 std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj) {
   MixedMesh& sm = surface.mesh;
   std::unordered_map<TriKey, std::int32_t, TriKeyHash> tri;
@@ -248,6 +260,13 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
   edges.reserve(sm.num_bfaces() * 3 / 2);
   for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
     for (int i = 0; i < 3; ++i) edges.insert(edge_key(sm.bface(f)[i], sm.bface(f)[(i + 1) % 3]));
+  // CAD faces between two glued solids (--glue): tets lie on both sides, so a flat one there is
+  // no gap to close by turning the surface diagonal; the other side's tets hold the old one
+  // (flip_flat_interface_tets handles it).
+  const std::vector<char> interface_face = interface_faces(surface);
+  auto interface = [&](std::int32_t f) {
+    return f >= 0 && f < static_cast<std::int32_t>(interface_face.size()) && interface_face[f];
+  };
   const auto& X = tets.nodes;
   auto normal = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
     const Vec3 u{X[b][0] - X[a][0], X[b][1] - X[a][1], X[b][2] - X[a][2]};
@@ -286,7 +305,8 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
     }
     if (ns != 2) continue;
     const std::int32_t s1 = sf[on[0]], s2 = sf[on[1]];
-    if (sm.bface_cad_face[s1] != sm.bface_cad_face[s2]) continue;
+    if (sm.bface_cad_face[s1] != sm.bface_cad_face[s2] || interface(sm.bface_cad_face[s1]))
+      continue;
     const std::int32_t* A = sm.bface(s1);
     const std::int32_t* B = sm.bface(s2);
     const Vec3 n1 = normal(A[0], A[1], A[2]), n2 = normal(B[0], B[1], B[2]);
@@ -331,6 +351,144 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
     tets.tet_solid.resize(k);
   }
   return dropped;
+}
+
+std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj) {
+  const std::vector<char> interface_face = interface_faces(surface);
+  MixedMesh& sm = surface.mesh;
+  std::unordered_map<TriKey, std::int32_t, TriKeyHash> tri;  // interface triangles only
+  for (std::size_t f = 0; f < sm.num_bfaces(); ++f) {
+    const std::int32_t cf = sm.bface_cad_face[f];
+    if (cf >= 0 && cf < static_cast<std::int32_t>(interface_face.size()) && interface_face[cf])
+      tri.emplace(tri_key(sm.bface(f)[0], sm.bface(f)[1], sm.bface(f)[2]),
+                  static_cast<std::int32_t>(f));
+  }
+  if (tri.empty()) return 0;
+  const auto& X = tets.nodes;
+  auto face_of = [&](const Tet& T, int skip) {
+    return tri_key(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]);
+  };
+  // Flat tets with two faces on one interface face: their two other faces, to find the tets
+  // across them.
+  struct Flat {
+    std::int32_t t;
+    int on[2], off[2];
+  };
+  std::vector<Flat> flat;
+  std::unordered_map<TriKey, std::array<std::int32_t, 2>, TriKeyHash> across;
+  for (std::size_t t = 0; t < tets.tets.size(); ++t) {
+    const Tet& T = tets.tets[t];
+    Vec3 x[4];
+    for (int i = 0; i < 4; ++i) x[i] = X[T[i]];
+    if (!(min_scaled_jacobian(CellKind::Tet4, x) < flat_sj)) continue;
+    Flat f{static_cast<std::int32_t>(t), {-1, -1}, {-1, -1}};
+    int ns = 0, no = 0;
+    std::int32_t cad[2] = {-1, -1};
+    for (int skip = 0; skip < 4; ++skip) {
+      const auto it = tri.find(face_of(T, skip));
+      if (it != tri.end() && ns < 2) {
+        cad[ns] = sm.bface_cad_face[it->second];
+        f.on[ns++] = skip;
+      } else if (it == tri.end() && no < 2) {
+        f.off[no++] = skip;
+      }
+    }
+    if (ns != 2 || no != 2 || cad[0] != cad[1]) continue;
+    flat.push_back(f);
+    for (int k = 0; k < 2; ++k) {
+      across.emplace(face_of(T, f.off[k]), std::array<std::int32_t, 2>{-1, -1});
+      across.emplace(face_of(T, f.on[k]), std::array<std::int32_t, 2>{-1, -1});
+    }
+  }
+  if (flat.empty()) return 0;
+  for (std::size_t t = 0; t < tets.tets.size(); ++t)
+    for (int skip = 0; skip < 4; ++skip) {
+      const auto it = across.find(face_of(tets.tets[t], skip));
+      if (it == across.end()) continue;
+      auto& slot = it->second;
+      (slot[0] < 0 ? slot[0] : slot[1]) = static_cast<std::int32_t>(t);
+    }
+  std::vector<char> gone(tets.tets.size(), 0);
+  std::vector<Tet> added;
+  std::vector<std::int32_t> added_solid;
+  for (const Flat& f : flat) {
+    const Tet T = tets.tets[f.t];
+    if (gone[f.t]) continue;
+    // The tets across the faces `skips` of T, if both exist, and their common fourth vertex.
+    auto pair_across = [&](const int(&skips)[2], std::int32_t(&n)[2]) -> std::int32_t {
+      std::int32_t apex[2] = {-1, -1};
+      for (int k = 0; k < 2; ++k) {
+        const auto& slot = across.at(face_of(T, skips[k]));
+        n[k] = slot[0] == f.t ? slot[1] : slot[0];
+        if (n[k] < 0 || gone[n[k]]) return -1;
+        for (std::int32_t v : tets.tets[n[k]])
+          if (v != T[0] && v != T[1] && v != T[2] && v != T[3]) apex[k] = v;
+      }
+      return n[0] != n[1] && apex[0] >= 0 && apex[0] == apex[1] ? apex[0] : -1;
+    };
+    // Tets (face of T skipped by skips[k], b), positively oriented; false if one is flat.
+    auto make = [&](const int(&skips)[2], std::int32_t b, Tet(&nt)[2]) {
+      for (int k = 0; k < 2; ++k) {
+        const int skip = skips[k];
+        nt[k] = {T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4], b};
+        Vec3 x[4];
+        for (int i = 0; i < 4; ++i) x[i] = X[nt[k][i]];
+        const Vec3 u = v3::sub(x[1], x[0]), v = v3::sub(x[2], x[0]), w = v3::sub(x[3], x[0]);
+        if (v3::dot(v3::cross(u, v), w) < 0) std::swap(nt[k][1], nt[k][2]);
+        for (int i = 0; i < 4; ++i) x[i] = X[nt[k][i]];
+        if (!(min_scaled_jacobian(CellKind::Tet4, x) >= flat_sj)) return false;
+      }
+      return true;
+    };
+    auto replace = [&](std::int32_t(&n)[2], const Tet(&nt)[2], std::int32_t solid) {
+      gone[f.t] = gone[n[0]] = gone[n[1]] = 1;
+      for (const Tet& t : nt) {
+        added.push_back(t);
+        added_solid.push_back(solid);
+      }
+    };
+    std::int32_t n[2];
+    Tet nt[2];
+    // Its own side: the tets across its inner faces and T are the pyramid (the flat quad, apex
+    // b), split again along the interface's diagonal (a 3-2 flip).
+    std::int32_t b = pair_across(f.off, n);
+    if (b >= 0 && tets.tet_solid[n[0]] == tets.tet_solid[f.t] &&
+        tets.tet_solid[n[1]] == tets.tet_solid[f.t] && make(f.on, b, nt)) {
+      replace(n, nt, tets.tet_solid[f.t]);
+      continue;
+    }
+    // Else the other solid's side: its two tets on the interface triangles, when they share an
+    // apex, are split along T's inner diagonal instead (a 2-2 flip), the interface takes that
+    // diagonal, and T goes (the surface edge check of drop_flat_boundary_tets).
+    b = pair_across(f.on, n);
+    if (b < 0 || tets.tet_solid[n[0]] != tets.tet_solid[n[1]] || !make(f.off, b, nt)) continue;
+    std::int32_t slot[2];
+    for (int k = 0; k < 2; ++k) slot[k] = tri.at(face_of(T, f.on[k]));
+    const std::int32_t* A = sm.bface(slot[0]);
+    const Vec3 n1 = v3::cross(v3::sub(X[A[1]], X[A[0]]), v3::sub(X[A[2]], X[A[0]]));
+    replace(n, nt, tets.tet_solid[n[0]]);
+    for (int k = 0; k < 2; ++k) {
+      const int skip = f.off[k];
+      std::int32_t* fn = &sm.bface_nodes[4 * slot[k]];
+      fn[0] = T[(skip + 1) % 4];
+      fn[1] = T[(skip + 2) % 4];
+      fn[2] = T[(skip + 3) % 4];
+      const Vec3 nk = v3::cross(v3::sub(X[fn[1]], X[fn[0]]), v3::sub(X[fn[2]], X[fn[0]]));
+      if (v3::dot(nk, n1) < 0) std::swap(fn[1], fn[2]);
+    }
+  }
+  std::size_t k = 0, flipped = 0;
+  for (std::size_t t = 0; t < tets.tets.size(); ++t) {
+    if (gone[t]) continue;
+    tets.tets[k] = tets.tets[t];
+    tets.tet_solid[k++] = tets.tet_solid[t];
+  }
+  flipped = (tets.tets.size() - k) / 3;
+  tets.tets.resize(k);
+  tets.tet_solid.resize(k);
+  tets.tets.insert(tets.tets.end(), added.begin(), added.end());
+  tets.tet_solid.insert(tets.tet_solid.end(), added_solid.begin(), added_solid.end());
+  return flipped;
 }
 
 namespace {

@@ -39,6 +39,19 @@ struct SliverFlips {
 // were dropped; `tets` and `surface` are updated.
 std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj);
 
+// Per CAD face id: 1 when the face bounds two solids (an interface of glued solids, --glue).
+std::vector<char> interface_faces(const SurfaceMesh& surface);
+
+// A flat tet on a face between two glued solids (two faces on it, four corners in its plane) lies
+// between the interface's triangles and its own solid's tets, which use the quad's other diagonal;
+// the surface cannot take that diagonal, since the other solid's tets hold this one. When the
+// two tets across its inner faces share their fourth vertex b, the three are the pyramid (quad,
+// b) and become its two tets along the interface's diagonal (a 3-2 flip); else, when the other
+// solid's two tets on the interface triangles share theirs, those two take T's inner diagonal
+// (a 2-2 flip) and so does the interface. New tets must be better than flat_sj. Returns how
+// many flat tets went; `tets` and `surface` are updated.
+std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj);
+
 // Flips away every free tet with min scaled Jacobian below s.limits.sliver_quality whose edge
 // shells are free and can be re-triangulated with a better minimum (shells of up to 7 tets).
 // The tets replaced are marked used (s.verify(flips.removed) holds after). Deterministic.

@@ -1,5 +1,6 @@
 // Reading CAD files into CadModel: format detection, units, sewing of surface models into
 // solids, stable ids (TopExp::MapShapes order on the compound of solids).
+#include <BOPAlgo_Builder.hxx>
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
@@ -261,6 +262,31 @@ int free_edge_count(const TopoDS_Shape& solid) {
   return n;
 }
 
+// Solids that touch or overlap, fragmented by OCCT's General Fuse (what Gmsh's BooleanFragments
+// runs): where two solids touch they then share one face, where they overlap the common part is
+// a solid of its own, so the mesh is one conforming (bonded) assembly. Solids apart are kept.
+std::vector<TopoDS_Solid> glue_solids(const std::vector<TopoDS_Solid>& solids, CadModel::Impl& m) {
+  BOPAlgo_Builder fuse;
+  for (const TopoDS_Solid& s : solids) fuse.AddArgument(s);
+  fuse.SetRunParallel(false);  // same input, same output
+  fuse.Perform();
+  if (fuse.HasErrors())
+    throw Error("the solids could not be glued (OpenCASCADE's General Fuse failed)");
+  std::vector<TopoDS_Solid> out;
+  for (TopExp_Explorer ex(fuse.Shape(), TopAbs_SOLID); ex.More(); ex.Next())
+    out.push_back(TopoDS::Solid(ex.Current()));
+  if (out.empty()) throw Error("the solids could not be glued (no solid came out)");
+  TopTools_IndexedDataMapOfShapeListOfShape face_solids;
+  for (const TopoDS_Solid& s : out)
+    TopExp::MapShapesAndAncestors(s, TopAbs_FACE, TopAbs_SOLID, face_solids);
+  int shared = 0;
+  for (int i = 1; i <= face_solids.Extent(); ++i) shared += face_solids(i).Extent() > 1;
+  m.warnings.push_back("glued " + std::to_string(solids.size()) + " solids into " +
+                       std::to_string(out.size()) + " sharing " + std::to_string(shared) +
+                       " face(s) where they touch or overlap");
+  return out;
+}
+
 SurfaceType surface_type_of(const TopoDS_Face& f) {
   switch (BRepAdaptor_Surface(f, false).GetType()) {
     case GeomAbs_Plane:
@@ -404,7 +430,7 @@ void CadModel::Impl::build_tables() {
   solid_bbox.resize(solids.size());
 }
 
-CadModel CadModel::read(const std::filesystem::path& path) {
+CadModel CadModel::read(const std::filesystem::path& path, const CadReadOptions& options) {
   silence_occt();
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error("cannot open '" + path.string() + "': no such file");
@@ -448,7 +474,7 @@ CadModel CadModel::read(const std::filesystem::path& path) {
     TopoDS_Compound part;
     builder.MakeCompound(part);
     for (std::size_t i = 0; i < solids.size(); ++i) {
-      TopoDS_Solid s = solids[i];
+      TopoDS_Solid& s = solids[i];
       const int free = free_edge_count(s);
       if (free > 0)
         throw Error("solid " + std::to_string(i + 1) + " is not closed (" + std::to_string(free) +
@@ -458,8 +484,9 @@ CadModel CadModel::read(const std::filesystem::path& path) {
         s.Reverse();
         m.warnings.push_back("solid " + std::to_string(i + 1) + " was inside out; reversed");
       }
-      builder.Add(part, s);
     }
+    if (options.glue && solids.size() > 1) solids = glue_solids(solids, m);
+    for (const TopoDS_Solid& s : solids) builder.Add(part, s);
     m.part = part;
     m.build_tables();
   } catch (const Standard_Failure& e) {

@@ -52,11 +52,17 @@ struct CoEdge {
   bool seam = false;      // the edge bounds the face on both sides (periodic seam)
 };
 
+struct CadReadOptions {
+  // Solids that touch or overlap are fragmented so they share faces (a bonded assembly);
+  // otherwise such solids are refused when meshed.
+  bool glue = false;
+};
+
 class CadModel {
  public:
   // Reads STEP (.step/.stp), IGES (.iges/.igs) or OCCT BREP (.brep/.rle). IGES surfaces are
   // sewn into solids. Throws hexfem::Error with a one-line reason on any failure.
-  static CadModel read(const std::filesystem::path& path);
+  static CadModel read(const std::filesystem::path& path, const CadReadOptions& options = {});
 
   CadModel(CadModel&&) noexcept;
   CadModel& operator=(CadModel&&) noexcept;

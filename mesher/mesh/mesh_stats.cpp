@@ -113,8 +113,9 @@ MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& f
     s.q_min = s.min_sj_per_kind[hex];
   }
 
-  // Watertightness of the derived boundary: every edge in exactly two boundary faces. Without
-  // NC flags, the counts tell whether the mesh needs them.
+  // Watertightness of the derived boundary: every edge in an even number of boundary faces (two
+  // on a manifold boundary; four where two glued solids touch along an edge, `--glue`), so the
+  // boundary closes. Without NC flags, the counts tell whether the mesh needs them.
   QuadFaceCounts qc;
   if (mesh.nc_cell.empty()) qc = counts.get();
   MixedMesh flagged;
@@ -141,7 +142,7 @@ MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& f
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i != 2) ++s.open_boundary_edges;
+    if ((j - i) % 2 != 0) ++s.open_boundary_edges;
     i = j;
   }
   s.watertight = s.num_cells > 0 && s.open_boundary_edges == 0;

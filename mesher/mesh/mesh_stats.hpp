@@ -27,7 +27,7 @@ struct MeshStats {
   std::size_t nonconformal_quads = 0;
   double nc_percent = 0;                   // % of interior quad faces that are NC
   std::size_t boundary_faces_derived = 0;  // cell faces on the boundary
-  std::size_t open_boundary_edges = 0;     // boundary edges not shared by exactly 2 faces
+  std::size_t open_boundary_edges = 0;     // boundary edges in an odd number of faces
   bool watertight = false;
   double volume = 0;
 };

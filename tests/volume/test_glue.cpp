@@ -1,0 +1,65 @@
+// Glued assemblies (--glue): the CAX-IF AS1 assembly (a plate, brackets, a rod, bolts and nuts:
+// 18 solids that touch) is refused as it is, since its solids' faces cross. Glued by OCCT's
+// General Fuse, touching solids share faces, and the mesh is one bonded body: a free-free modal
+// analysis finds exactly six rigid-body modes (18 loose bodies would have 108), the volume is the
+// sum of the 18 solids' own volumes, and the bytes do not depend on the thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/cad/cad_test_util.hpp"
+
+namespace hexfem {
+namespace {
+
+nlohmann::json run_json(const std::string& args, int* status, const std::string& env = "") {
+  std::string out;
+  *status = cadtest::run_cli(args, &out, env);
+  const auto brace = out.find('{');
+  if (*status != 0 || brace == std::string::npos) return nlohmann::json{{"output", out}};
+  return nlohmann::json::parse(out.substr(brace));
+}
+
+TEST(Glue, TouchingSolidsOfAnAssemblyMeshAsOneBondedBody) {
+  const std::string work = HEXFEM_WORK_DIR;
+  const std::string part = cadtest::data("as1-oc-214.stp");
+  int status = 0;
+  // The solids' own volumes, summed, before any gluing (OCCT's mass properties).
+  const nlohmann::json info = run_json("info " + part + " --json", &status);
+  ASSERT_EQ(status, 0);
+  ASSERT_EQ(info["solids"].size(), 18u);
+  double solids_volume = 0;
+  for (const auto& s : info["solids"]) solids_volume += s["volume"].get<double>();
+
+  std::string refused;
+  EXPECT_NE(cadtest::run_cli("mesh " + part + " --h 8 -o " + work + "/as1_plain.msh", &refused), 0);
+  EXPECT_NE(refused.find("touch or overlap"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("--glue"), std::string::npos) << refused;
+
+  const nlohmann::json two =
+      run_json("mesh " + part + " --h 8 --glue --json -o " + work + "/as1_glued_2.msh", &status,
+               "OMP_NUM_THREADS=2");
+  ASSERT_EQ(status, 0) << two.dump();
+  const nlohmann::json one =
+      run_json("mesh " + part + " --h 8 --glue --json -o " + work + "/as1_glued_1.msh", &status,
+               "OMP_NUM_THREADS=1");
+  ASSERT_EQ(status, 0) << one.dump();
+  EXPECT_EQ(two["inverted"], 0);
+  // Up to the chords of the bolts' and holes' curved faces (measured: 2.0e-4).
+  EXPECT_NEAR(two["mesh_volume"].get<double>(), solids_volume, 2e-3 * solids_volume);
+  EXPECT_EQ(cadtest::file_bytes(work + "/as1_glued_1.msh"),
+            cadtest::file_bytes(work + "/as1_glued_2.msh"));
+
+  const nlohmann::json modal =
+      run_json("modal " + part + " --h 8 --glue --order 1 --free --modes 12 --json", &status);
+  ASSERT_EQ(status, 0) << modal.dump();
+  int rigid = 0;
+  for (const auto& m : modal["modes"]) rigid += std::abs(m["frequency_hz"].get<double>()) < 1.0;
+  EXPECT_EQ(rigid, 6);
+  EXPECT_GT(modal["modes"][6]["frequency_hz"].get<double>(), 1000.0);  // measured 1871.8 Hz
+}
+
+}  // namespace
+}  // namespace hexfem
