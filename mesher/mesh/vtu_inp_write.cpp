@@ -70,6 +70,20 @@ void data_array(std::string& s, const char* type, const char* name, int componen
   s += "\n</DataArray>\n";
 }
 
+// A real number for CalculiX and a space: the shortest round-trip form when it fits in 20
+// characters, since ccx 2.20 refuses a longer field ("*ERROR reading *NODE" on
+// 1.7763568394002505E-15, a coordinate a glued assembly's fuse left next to zero); else the most
+// digits that fit (15 or 16 significant, far below any mesh tolerance).
+void put_inp_real(std::string& s, double v) {
+  constexpr std::ptrdiff_t kCcxField = 20;
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  for (int digits = 16; r.ptr - buf > kCcxField && digits > 1; --digits)
+    r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, digits);
+  s.append(buf, r.ptr);
+  s.push_back(' ');
+}
+
 // One unstructured grid of `n` cells; `cell(i, ids)` returns the VTK type and fills VTK-ordered
 // ids.
 void put_rounded(std::string& s, double v, int digits) {
@@ -272,7 +286,7 @@ void write_inp_ties(const std::vector<NodeTie>& ties, std::string& s) {
         s.back() = ',';
         put(s, a);
         s.back() = ',';
-        put(s, terms[i].second);
+        put_inp_real(s, terms[i].second);
         s.back() = (i % 4 == 3 || i + 1 == terms.size()) ? '\n' : ',';
       }
     }
@@ -291,7 +305,7 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
     put(s, static_cast<long long>(i + 1));
     for (double x : mesh.nodes[i]) {
       s.back() = ',';
-      put(s, x);
+      put_inp_real(s, x);
     }
     s.back() = '\n';
   }
