@@ -81,7 +81,7 @@ int run(const ConvergeArgs& a) {
     nlohmann::json j = study;
     j["part"] = a.file;
     j["material"] = modal.material;
-    j["hex8"] = a.modal.hex8;
+    if (a.modal.order == 1) j["hex8"] = a.modal.hex8;  // order 2: "elements" says what
     j["order"] = a.modal.order;
     j["elements"] = element_formulations(a.modal.order, modal.incompatible_hex);
     j["fix"] = a.modal.fix;

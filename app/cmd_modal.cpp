@@ -212,7 +212,7 @@ int run(const Args& a) {
       j["mesh"]["peak_memory_bytes"] = part.mesh_peak_bytes;
       if (!a.mesh_out.empty()) j["mesh"]["written"] = a.mesh_out;
     }
-    j["hex8"] = a.modal.hex8;
+    if (mesh.order == 1) j["hex8"] = a.modal.hex8;  // order 2 has no hex8: "elements" says what
     j["order"] = mesh.order;
     j["elements"] = element_formulations(mesh.order, opt.incompatible_hex);
     if (read_order2)
