@@ -356,23 +356,25 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
 std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj) {
   const std::vector<char> interface_face = interface_faces(surface);
   MixedMesh& sm = surface.mesh;
-  std::unordered_map<TriKey, std::int32_t, TriKeyHash> tri;  // interface triangles only
-  for (std::size_t f = 0; f < sm.num_bfaces(); ++f) {
-    const std::int32_t cf = sm.bface_cad_face[f];
-    if (cf >= 0 && cf < static_cast<std::int32_t>(interface_face.size()) && interface_face[cf])
-      tri.emplace(tri_key(sm.bface(f)[0], sm.bface(f)[1], sm.bface(f)[2]),
-                  static_cast<std::int32_t>(f));
-  }
-  if (tri.empty()) return 0;
+  auto interface = [&](std::int32_t cf) {
+    return cf >= 0 && cf < static_cast<std::int32_t>(interface_face.size()) && interface_face[cf];
+  };
+  if (std::find(interface_face.begin(), interface_face.end(), 1) == interface_face.end()) return 0;
+  std::unordered_map<TriKey, std::int32_t, TriKeyHash> tri;
+  for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
+    tri.emplace(tri_key(sm.bface(f)[0], sm.bface(f)[1], sm.bface(f)[2]),
+                static_cast<std::int32_t>(f));
   const auto& X = tets.nodes;
   auto face_of = [&](const Tet& T, int skip) {
     return tri_key(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]);
   };
-  // Flat tets with two faces on one interface face: their two other faces, to find the tets
-  // across them.
+  // Flat tets with two surface faces, one at least on an interface (where an interface face
+  // meets an outer face in one plane, the two may differ): their two other faces, to find the
+  // tets across them.
   struct Flat {
     std::int32_t t;
     int on[2], off[2];
+    bool one_face;  // both surface faces on the same CAD face
   };
   std::vector<Flat> flat;
   std::unordered_map<TriKey, std::array<std::int32_t, 2>, TriKeyHash> across;
@@ -381,7 +383,7 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
     Vec3 x[4];
     for (int i = 0; i < 4; ++i) x[i] = X[T[i]];
     if (!(min_scaled_jacobian(CellKind::Tet4, x) < flat_sj)) continue;
-    Flat f{static_cast<std::int32_t>(t), {-1, -1}, {-1, -1}};
+    Flat f{static_cast<std::int32_t>(t), {-1, -1}, {-1, -1}, false};
     int ns = 0, no = 0;
     std::int32_t cad[2] = {-1, -1};
     for (int skip = 0; skip < 4; ++skip) {
@@ -393,7 +395,8 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
         f.off[no++] = skip;
       }
     }
-    if (ns != 2 || no != 2 || cad[0] != cad[1]) continue;
+    if (ns != 2 || no != 2 || !(interface(cad[0]) || interface(cad[1]))) continue;
+    f.one_face = cad[0] == cad[1];
     flat.push_back(f);
     for (int k = 0; k < 2; ++k) {
       across.emplace(face_of(T, f.off[k]), std::array<std::int32_t, 2>{-1, -1});
@@ -460,6 +463,7 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
     // Else the other solid's side: its two tets on the interface triangles, when they share an
     // apex, are split along T's inner diagonal instead (a 2-2 flip), the interface takes that
     // diagonal, and T goes (the surface edge check of drop_flat_boundary_tets).
+    if (!f.one_face) continue;
     b = pair_across(f.on, n);
     if (b < 0 || tets.tet_solid[n[0]] != tets.tet_solid[n[1]] || !make(f.off, b, nt)) continue;
     std::int32_t slot[2];

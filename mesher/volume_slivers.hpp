@@ -42,9 +42,10 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
 // Per CAD face id: 1 when the face bounds two solids (an interface of glued solids, --glue).
 std::vector<char> interface_faces(const SurfaceMesh& surface);
 
-// A flat tet on a face between two glued solids (two faces on it, four corners in its plane) lies
-// between the interface's triangles and its own solid's tets, which use the quad's other diagonal;
-// the surface cannot take that diagonal, since the other solid's tets hold this one. When the
+// A flat tet on a face between two glued solids (two faces on it, four corners in its plane; or
+// one face on it and one on an outer face in the same plane) lies between those triangles and its
+// own solid's tets, which use the quad's other diagonal; the surface cannot take that diagonal,
+// since the other solid's tets hold this one. When the
 // two tets across its inner faces share their fourth vertex b, the three are the pyramid (quad,
 // b) and become its two tets along the interface's diagonal (a 3-2 flip); else, when the other
 // solid's two tets on the interface triangles share theirs, those two take T's inner diagonal
