@@ -41,4 +41,9 @@ void parse_size_at(const std::vector<std::string>& specs, double h,
                    std::vector<std::pair<int, double>>& vertex_sizes,
                    std::vector<std::pair<int, double>>& face_sizes);
 
+// --glue's help, shared by `mesh`, `modal` and `converge`.
+inline constexpr const char* kGlueHelp =
+    "glue solids that touch or overlap into one bonded assembly (they then share faces; face ids "
+    "as `hexfem info --glue` lists them)";
+
 }  // namespace hexfem

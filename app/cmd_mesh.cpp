@@ -153,9 +153,7 @@ RegisterCommand reg{
                       "element order: 1 (default) or 2 (mid-edge nodes on the CAD geometry)");
        sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)");
        sub.add_flag("--json", a->json, "print the report as JSON on stdout");
-       sub.add_flag("--glue", a->glue,
-                    "glue solids that touch or overlap into one bonded assembly (they then share "
-                    "faces; face ids as `hexfem info --glue` lists them)");
+       sub.add_flag("--glue", a->glue, kGlueHelp);
        sub.add_flag(
            "--force", a->force,
            "allow more than 1 M surface points or 20 M interior points (estimated before the "

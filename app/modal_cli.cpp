@@ -48,10 +48,7 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                  "CAD input: pack the two faces of a wall up to T sizes thick from the same points "
                  "(mesher study switch, as on `mesh`)")
       ->check(CLI::Range(0.0, 10.0));
-  sub.add_flag("--glue", o.glue,
-               "CAD input: "
-               "glue solids that touch or overlap into one bonded assembly (they then share faces; "
-               "face ids as `hexfem info --glue` lists them)");
+  sub.add_flag("--glue", o.glue, std::string("CAD input: ") + kGlueHelp);
   sub.add_flag("--no-pyramids", o.no_pyramids,
                "CAD input: make no pyramids (a quad face against two triangles stays NC; tied at "
                "order 2)");

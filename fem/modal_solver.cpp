@@ -483,7 +483,7 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
       throw Error("requested " + std::to_string(options.num_modes) + " modes but the model has " +
                   std::to_string(free_dofs) + " free DOFs (at most " +
                   std::to_string(free_dofs - 1) + " modes)");
-    bool direct_fits = false;
+    bool direct_fits = false, iterative_failed = false;
     const bool automatic = path == SolverChoice::Auto;
     if (automatic)
       path = pick_solver(free_dofs, mesh.order, options.auto_direct_max_dofs, reason, &direct_fits);
@@ -502,6 +502,7 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
       } catch (const Error& e) {
         reason += std::string("; then direct, since the iterative path failed: ") + e.what();
         path = SolverChoice::Direct;
+        iterative_failed = true;
       }
     }
     if (path == SolverChoice::Iterative) {
@@ -513,8 +514,7 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
       try {
         return solve_modal_direct(mesh, options, fixed, reason, t0);
       } catch (const FactorTooLarge& e) {
-        if (reason.find("iterative path failed") != std::string::npos)
-          throw Error(reason + "; " + e.what());
+        if (iterative_failed) throw Error(reason + "; " + e.what());
         ModalResult r = solve_modal_iterative(mesh, options, fixed);
         r.solver_reason = reason + "; then iterative, since " + e.what();
         return r;

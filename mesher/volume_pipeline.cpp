@@ -283,7 +283,8 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   r.tets = tets.tets.size();
   r.stages.push_back(timer.lap("tetgen"));
 
-  // Flat tets on the surface go; the surface takes their other diagonal.
+  // Flat tets on the surface go; the surface takes their other diagonal (on a face between two
+  // glued solids, a flip of the tets around them instead).
   SurfaceMesh surface = surface_in;
   r.flat_boundary_tets = drop_flat_boundary_tets(tets, surface, options.flat_tet_quality);
   r.flat_boundary_tets += flip_flat_interface_tets(tets, surface, options.flat_tet_quality);

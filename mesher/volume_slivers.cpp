@@ -230,6 +230,13 @@ SliverFlips flip_slivers(RecombineState& s) {
   return out;
 }
 
+namespace {
+bool on_interface(const std::vector<char>& interface_face, std::int32_t cad_face) {
+  return cad_face >= 0 && cad_face < static_cast<std::int32_t>(interface_face.size()) &&
+         interface_face[cad_face];
+}
+}  // namespace
+
 std::vector<char> interface_faces(const SurfaceMesh& surface) {
   std::vector<int> count;
   for (const auto& faces : surface.faces_of_solid)
@@ -264,9 +271,6 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
   // no gap to close by turning the surface diagonal; the other side's tets hold the old one
   // (flip_flat_interface_tets handles it).
   const std::vector<char> interface_face = interface_faces(surface);
-  auto interface = [&](std::int32_t f) {
-    return f >= 0 && f < static_cast<std::int32_t>(interface_face.size()) && interface_face[f];
-  };
   const auto& X = tets.nodes;
   auto normal = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
     const Vec3 u{X[b][0] - X[a][0], X[b][1] - X[a][1], X[b][2] - X[a][2]};
@@ -305,7 +309,8 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
     }
     if (ns != 2) continue;
     const std::int32_t s1 = sf[on[0]], s2 = sf[on[1]];
-    if (sm.bface_cad_face[s1] != sm.bface_cad_face[s2] || interface(sm.bface_cad_face[s1]))
+    if (sm.bface_cad_face[s1] != sm.bface_cad_face[s2] ||
+        on_interface(interface_face, sm.bface_cad_face[s1]))
       continue;
     const std::int32_t* A = sm.bface(s1);
     const std::int32_t* B = sm.bface(s2);
@@ -356,9 +361,6 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
 std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj) {
   const std::vector<char> interface_face = interface_faces(surface);
   MixedMesh& sm = surface.mesh;
-  auto interface = [&](std::int32_t cf) {
-    return cf >= 0 && cf < static_cast<std::int32_t>(interface_face.size()) && interface_face[cf];
-  };
   if (std::find(interface_face.begin(), interface_face.end(), 1) == interface_face.end()) return 0;
   std::unordered_map<TriKey, std::int32_t, TriKeyHash> tri;
   for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
@@ -395,7 +397,9 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
         f.off[no++] = skip;
       }
     }
-    if (ns != 2 || no != 2 || !(interface(cad[0]) || interface(cad[1]))) continue;
+    if (ns != 2 || no != 2 ||
+        !(on_interface(interface_face, cad[0]) || on_interface(interface_face, cad[1])))
+      continue;
     f.one_face = cad[0] == cad[1];
     flat.push_back(f);
     for (int k = 0; k < 2; ++k) {
@@ -462,7 +466,8 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
     }
     // Else the other solid's side: its two tets on the interface triangles, when they share an
     // apex, are split along T's inner diagonal instead (a 2-2 flip), the interface takes that
-    // diagonal, and T goes (the surface edge check of drop_flat_boundary_tets).
+    // diagonal, and T goes. (Unlike drop_flat_boundary_tets, no test that the new diagonal is not
+    // a surface edge already; the mesh's watertightness check would refuse such a result.)
     if (!f.one_face) continue;
     b = pair_across(f.on, n);
     if (b < 0 || tets.tet_solid[n[0]] != tets.tet_solid[n[1]] || !make(f.off, b, nt)) continue;
@@ -481,13 +486,13 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
       if (v3::dot(nk, n1) < 0) std::swap(fn[1], fn[2]);
     }
   }
-  std::size_t k = 0, flipped = 0;
+  std::size_t k = 0;
   for (std::size_t t = 0; t < tets.tets.size(); ++t) {
     if (gone[t]) continue;
     tets.tets[k] = tets.tets[t];
     tets.tet_solid[k++] = tets.tet_solid[t];
   }
-  flipped = (tets.tets.size() - k) / 3;
+  const std::size_t flipped = (tets.tets.size() - k) / 3;  // each flip took three tets
   tets.tets.resize(k);
   tets.tet_solid.resize(k);
   tets.tets.insert(tets.tets.end(), added.begin(), added.end());

@@ -73,7 +73,7 @@ void data_array(std::string& s, const char* type, const char* name, int componen
 // A real number for CalculiX and a space: the shortest round-trip form when it fits in 20
 // characters, since ccx 2.20 refuses a longer field ("*ERROR reading *NODE" on
 // 1.7763568394002505E-15, a coordinate a glued assembly's fuse left next to zero); else the most
-// digits that fit (15 or 16 significant, far below any mesh tolerance).
+// digits that fit (14 to 16 significant, far below any mesh tolerance).
 void put_inp_real(std::string& s, double v) {
   constexpr std::ptrdiff_t kCcxField = 20;
   char buf[32];
