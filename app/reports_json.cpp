@@ -94,6 +94,7 @@ void to_json(nlohmann::json& j, const SurfaceReport& r) {
                            {"triangles", c.triangles},
                            {"volume", c.volume},
                            {"closed", c.open_edges == 0 && c.nonmanifold_edges == 0},
+                           {"touching_edges", c.touching_edges},
                            {"oriented", c.misoriented_edges == 0 && c.volume > 0},
                            {"self_intersects", c.self_intersects}});
   }

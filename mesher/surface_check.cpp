@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <unordered_map>
 
 #include "mesher/edge_points.hpp"
@@ -21,15 +22,23 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using PmpMesh = CGAL::Surface_mesh<K::Point_3>;
 
 // The triangles `tris` of m as a CGAL surface mesh; false when some triangle cannot be added
-// (a non-manifold vertex or edge). face_of[i] = the bface index of CGAL face i.
+// (a non-manifold vertex or edge). face_of[i] = the bface index of CGAL face i. A node marked in
+// `private_nodes` gets a copy of its own in each triangle, which keeps the CGAL mesh manifold
+// where two sheets of a solid touch along an edge.
 bool build_pmp_mesh(const MixedMesh& m, const std::vector<std::size_t>& tris, PmpMesh& mesh,
-                    std::vector<std::size_t>* face_of) {
+                    std::vector<std::size_t>* face_of,
+                    const std::vector<char>* private_nodes = nullptr) {
   std::unordered_map<int, PmpMesh::Vertex_index> vmap;
+  auto point = [&](int n) {
+    const Vec3& p = m.nodes[static_cast<std::size_t>(n)];
+    return K::Point_3(p[0], p[1], p[2]);
+  };
   auto vertex = [&](int n) {
+    if (private_nodes && (*private_nodes)[static_cast<std::size_t>(n)])
+      return mesh.add_vertex(point(n));
     auto it = vmap.find(n);
     if (it != vmap.end()) return it->second;
-    const Vec3& p = m.nodes[static_cast<std::size_t>(n)];
-    auto v = mesh.add_vertex(K::Point_3(p[0], p[1], p[2]));
+    auto v = mesh.add_vertex(point(n));
     vmap.emplace(n, v);
     return v;
   };
@@ -51,6 +60,56 @@ std::vector<std::size_t> triangles_of_solid(const SurfaceMesh& s, std::size_t so
     if (std::find(faces.begin(), faces.end(), s.mesh.bface_cad_face[f]) != faces.end())
       tris.push_back(f);
   return tris;
+}
+
+enum class EdgeUse { ok, open, nonmanifold, misoriented, touching };
+
+// How one solid's triangles use an undirected edge, from the counts in each direction. Where two
+// lumps of a solid touch along a CAD edge (the edge bounds four face sides, as on
+// gehause_rohteil) each of their sheets uses the edge once each way: the surface is closed and
+// oriented there, though not manifold ("touching").
+EdgeUse edge_use(const std::array<int, 2>& n, bool on_cad_edge) {
+  const int total = n[0] + n[1];
+  if (total == 1) return EdgeUse::open;
+  if (total == 2) return n[0] == 1 ? EdgeUse::ok : EdgeUse::misoriented;
+  if (total % 2 == 0 && n[0] == n[1] && on_cad_edge) return EdgeUse::touching;
+  return EdgeUse::nonmanifold;
+}
+
+bool on_cad_edge(const SurfaceMesh& s, int a, int b) {
+  const auto& e = s.on_edge;
+  return e.size() == s.mesh.nodes.size() && e[static_cast<std::size_t>(a)] &&
+         e[static_cast<std::size_t>(b)];
+}
+
+// The intersecting pairs of triangles among `tris` (bface indices, sorted pairs), at most `limit`
+// when limit > 0. `touching`: nodes of touching edges (or empty). Triangles that share such a
+// node meet there by construction and are not counted; each triangle gets its own copy of those
+// nodes so that CGAL can build a manifold mesh. nullopt when no CGAL mesh can be built (a
+// non-manifold vertex elsewhere).
+std::optional<std::vector<std::pair<std::size_t, std::size_t>>> intersecting_triangles(
+    const MixedMesh& m, const std::vector<std::size_t>& tris, const std::vector<char>& touching) {
+  PmpMesh mesh;
+  std::vector<std::size_t> face_of;
+  if (!build_pmp_mesh(m, tris, mesh, &face_of, touching.empty() ? nullptr : &touching))
+    return std::nullopt;
+  std::vector<std::pair<PmpMesh::Face_index, PmpMesh::Face_index>> pairs;
+  CGAL::Polygon_mesh_processing::self_intersections<CGAL::Parallel_if_available_tag>(
+      mesh, std::back_inserter(pairs));
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  for (const auto& [fa, fb] : pairs) {
+    const std::size_t a = face_of[static_cast<std::size_t>(fa)],
+                      b = face_of[static_cast<std::size_t>(fb)];
+    bool meet_at_touching = false;
+    if (!touching.empty())
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          meet_at_touching |=
+              m.bface(a)[i] == m.bface(b)[j] && touching[static_cast<std::size_t>(m.bface(a)[i])];
+    if (!meet_at_touching) out.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace
@@ -173,25 +232,44 @@ std::vector<SolidCheck> check_solids(const SurfaceMesh& s, bool self_intersectio
                    p[2] * (q[0] * r[1] - q[1] * r[0])) /
                   6.0;
     }
+    std::vector<char> touching;
     for (const auto& [key, n] : edges) {
-      const int total = n[0] + n[1];
-      if (total == 1)
-        ++c.open_edges;
-      else if (total > 2)
-        ++c.nonmanifold_edges;
-      else if (n[0] != 1)
-        ++c.misoriented_edges;
+      switch (edge_use(n, on_cad_edge(s, key.first, key.second))) {
+        case EdgeUse::open:
+          ++c.open_edges;
+          break;
+        case EdgeUse::nonmanifold:
+          ++c.nonmanifold_edges;
+          break;
+        case EdgeUse::misoriented:
+          ++c.misoriented_edges;
+          break;
+        case EdgeUse::touching:
+          ++c.touching_edges;
+          touching.resize(m.nodes.size(), 0);
+          touching[static_cast<std::size_t>(key.first)] = 1;
+          touching[static_cast<std::size_t>(key.second)] = 1;
+          break;
+        case EdgeUse::ok:
+          break;
+      }
     }
     if (self_intersection && c.open_edges == 0 && c.nonmanifold_edges == 0 &&
         c.misoriented_edges == 0) {
       // A vertex where two sheets touch (non-manifold vertex) cannot be built; CGAL would
       // not test such a mesh, so it counts as failing.
-      PmpMesh mesh;
-      const bool built = build_pmp_mesh(m, tris, mesh, nullptr);
       c.self_intersection_tested = true;
-      c.self_intersects =
-          !built ||
-          CGAL::Polygon_mesh_processing::does_self_intersect<CGAL::Parallel_if_available_tag>(mesh);
+      if (touching.empty()) {
+        PmpMesh mesh;
+        const bool built = build_pmp_mesh(m, tris, mesh, nullptr);
+        c.self_intersects =
+            !built ||
+            CGAL::Polygon_mesh_processing::does_self_intersect<CGAL::Parallel_if_available_tag>(
+                mesh);
+      } else {
+        const auto pairs = intersecting_triangles(m, tris, touching);
+        c.self_intersects = !pairs || !pairs->empty();
+      }
     }
     out.push_back(c);
   }
@@ -224,12 +302,18 @@ std::vector<std::string> surface_defects(const SurfaceMesh& s, std::size_t max_l
       }
     }
     std::size_t n_bad = 0;
+    std::vector<char> touching;
     for (const auto& [key, fs] : edges) {
-      const auto& d = dir[key];
-      const char* what = fs.size() == 1  ? "open"
-                         : fs.size() > 2 ? "non-manifold"
-                         : d[0] != 1     ? "misoriented"
-                                         : nullptr;
+      const EdgeUse use = edge_use(dir[key], on_cad_edge(s, key.first, key.second));
+      if (use == EdgeUse::touching) {
+        touching.resize(m.nodes.size(), 0);
+        touching[static_cast<std::size_t>(key.first)] = 1;
+        touching[static_cast<std::size_t>(key.second)] = 1;
+      }
+      const char* what = use == EdgeUse::open          ? "open"
+                         : use == EdgeUse::nonmanifold ? "non-manifold"
+                         : use == EdgeUse::misoriented ? "misoriented"
+                                                       : nullptr;
       if (!what || n_bad++ >= max_lines) continue;
       const Vec3 p = xyz(key.first), q = xyz(key.second);
       std::snprintf(line, sizeof line,
@@ -238,19 +322,14 @@ std::vector<std::string> surface_defects(const SurfaceMesh& s, std::size_t max_l
       out.emplace_back(line);
     }
     if (n_bad != 0) continue;  // CGAL needs a manifold to look for intersections
-    PmpMesh mesh;
-    std::vector<std::size_t> face_of;
-    if (!build_pmp_mesh(m, tris, mesh, &face_of)) {
+    const auto found = intersecting_triangles(m, tris, touching);
+    if (!found) {
       out.push_back("solid " + std::to_string(solid) + ": a non-manifold vertex");
       continue;
     }
-    std::vector<std::pair<PmpMesh::Face_index, PmpMesh::Face_index>> pairs;
-    CGAL::Polygon_mesh_processing::self_intersections<CGAL::Parallel_if_available_tag>(
-        mesh, std::back_inserter(pairs));
-    std::sort(pairs.begin(), pairs.end());
+    const auto& pairs = *found;
     for (std::size_t i = 0; i < pairs.size() && i < max_lines; ++i) {
-      const std::size_t a = face_of[static_cast<std::size_t>(pairs[i].first)],
-                        b = face_of[static_cast<std::size_t>(pairs[i].second)];
+      const auto [a, b] = pairs[i];
       const Vec3 p = xyz(m.bface(a)[0]);
       std::snprintf(line, sizeof line,
                     "solid %zu: triangles of CAD faces %d and %d intersect near (%.6g, %.6g, %.6g)",

@@ -1,4 +1,5 @@
-// Checks of a surface mesh: closed 2-manifold per solid, consistent outward orientation,
+// Checks of a surface mesh: closed 2-manifold per solid (lumps of a solid may touch along a CAD
+// edge), consistent outward orientation,
 // self-intersection (CGAL Polygon Mesh Processing), triangle angles, enclosed volume, and the
 // alignment measure (share of right-isosceles-like triangles).
 //
@@ -53,7 +54,9 @@ struct SolidCheck {
   int solid = 0;
   std::size_t triangles = 0;
   std::size_t open_edges = 0;         // used by one triangle
-  std::size_t nonmanifold_edges = 0;  // used by more than two
+  std::size_t nonmanifold_edges = 0;  // used by more than two, not as touching sheets
+  // Used twice each way on a CAD edge: two lumps of the solid touching along it (allowed).
+  std::size_t touching_edges = 0;
   std::size_t misoriented_edges = 0;  // two triangles running the same way along it
   bool self_intersects = false;       // only tested on a closed, oriented manifold
   bool self_intersection_tested = false;

@@ -147,16 +147,19 @@ void drop_unused_nodes(SurfaceMesh& s) {
     if (v >= 0) v = index[static_cast<std::size_t>(v)];
 }
 
-// A solid whose boundary uses an edge more than twice (two lumps touching along an edge)
-// has no 2-manifold surface mesh: refused with the edge and its faces named.
-void require_manifold_solids(const CadModel& cad) {
+// Two lumps of a solid may touch along an edge: it then bounds four face sides (or another even
+// number), and the surface mesh is closed and oriented though not manifold there; TetGen, the
+// recombination and the solver take it as it is (the lumps share the edge's nodes). An odd
+// number above two is a face inside the solid or hanging from it (no closed surface): refused
+// with the edge and its faces named.
+void require_closed_solids(const CadModel& cad) {
   for (int s = 1; s <= cad.num_solids(); ++s) {
     std::map<int, std::vector<int>> uses;
     for (int f : cad.faces_of_solid(s))
       for (const auto& ce : cad.coedges(f))
         if (!cad.edge_degenerate(ce.edge)) uses[ce.edge].push_back(f);
     for (const auto& [e, fs] : uses) {
-      if (fs.size() <= 2) continue;
+      if (fs.size() <= 2 || fs.size() % 2 == 0) continue;
       std::string list;
       for (int f : fs) list += (list.empty() ? "" : ", ") + std::to_string(f);
       throw CadError("solid " + std::to_string(s) + " is not manifold: edge " + std::to_string(e) +
@@ -461,7 +464,7 @@ SurfaceMesh mesh_surface_once(const CadModel& cad, const SurfaceOptions& options
   rep = SurfaceReport{};
   rep.curvature_used = options.curvature;
   if (!(options.k > 0 && options.k < 1)) throw Error("the packing factor k must be in (0, 1)");
-  require_manifold_solids(cad);
+  require_closed_solids(cad);
   StageTimer timer;
   auto lap = [&](const char* name) {
     rep.stage_seconds.emplace_back(name, timer.lap(name).seconds);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -42,6 +43,17 @@ inline int run_cli(const std::string& args, std::string* out, const std::string&
   while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) out->append(buf.data(), n);
   const int status = pclose(p);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Runs `hexfem args` (with --json among them) and parses the JSON it prints; on failure, or with
+// no JSON in the output, {"output": what it printed}. `status` gets the exit code.
+inline nlohmann::json run_cli_json(const std::string& args, int* status,
+                                   const std::string& env = "") {
+  std::string out;
+  *status = run_cli(args, &out, env);
+  const auto brace = out.find('{');
+  if (*status != 0 || brace == std::string::npos) return nlohmann::json{{"output", out}};
+  return nlohmann::json::parse(out.substr(brace));
 }
 
 // Runs `hexfem args` and expects the one-line failure every command promises: exit 1 or 2 (not

@@ -14,20 +14,12 @@
 namespace hexfem {
 namespace {
 
-nlohmann::json run_json(const std::string& args, int* status, const std::string& env = "") {
-  std::string out;
-  *status = cadtest::run_cli(args, &out, env);
-  const auto brace = out.find('{');
-  if (*status != 0 || brace == std::string::npos) return nlohmann::json{{"output", out}};
-  return nlohmann::json::parse(out.substr(brace));
-}
-
 TEST(Glue, TouchingSolidsOfAnAssemblyMeshAsOneBondedBody) {
   const std::string work = HEXFEM_WORK_DIR;
   const std::string part = cadtest::data("as1-oc-214.stp");
   int status = 0;
   // The solids' own volumes, summed, before any gluing (OCCT's mass properties).
-  const nlohmann::json info = run_json("info " + part + " --json", &status);
+  const nlohmann::json info = cadtest::run_cli_json("info " + part + " --json", &status);
   ASSERT_EQ(status, 0);
   ASSERT_EQ(info["solids"].size(), 18u);
   double solids_volume = 0;
@@ -39,12 +31,12 @@ TEST(Glue, TouchingSolidsOfAnAssemblyMeshAsOneBondedBody) {
   EXPECT_NE(refused.find("--glue"), std::string::npos) << refused;
 
   const nlohmann::json two =
-      run_json("mesh " + part + " --h 8 --glue --json -o " + work + "/as1_glued_2.msh", &status,
-               "OMP_NUM_THREADS=2");
+      cadtest::run_cli_json("mesh " + part + " --h 8 --glue --json -o " + work + "/as1_glued_2.msh",
+                            &status, "OMP_NUM_THREADS=2");
   ASSERT_EQ(status, 0) << two.dump();
   const nlohmann::json one =
-      run_json("mesh " + part + " --h 8 --glue --json -o " + work + "/as1_glued_1.msh", &status,
-               "OMP_NUM_THREADS=1");
+      cadtest::run_cli_json("mesh " + part + " --h 8 --glue --json -o " + work + "/as1_glued_1.msh",
+                            &status, "OMP_NUM_THREADS=1");
   ASSERT_EQ(status, 0) << one.dump();
   EXPECT_EQ(two["inverted"], 0);
   // Up to the chords of the bolts' and holes' curved faces (measured: 2.0e-4).
@@ -52,8 +44,8 @@ TEST(Glue, TouchingSolidsOfAnAssemblyMeshAsOneBondedBody) {
   EXPECT_EQ(cadtest::file_bytes(work + "/as1_glued_1.msh"),
             cadtest::file_bytes(work + "/as1_glued_2.msh"));
 
-  const nlohmann::json modal =
-      run_json("modal " + part + " --h 8 --glue --order 1 --free --modes 12 --json", &status);
+  const nlohmann::json modal = cadtest::run_cli_json(
+      "modal " + part + " --h 8 --glue --order 1 --free --modes 12 --json", &status);
   ASSERT_EQ(status, 0) << modal.dump();
   int rigid = 0;
   for (const auto& m : modal["modes"]) rigid += std::abs(m["frequency_hz"].get<double>()) < 1.0;
