@@ -249,6 +249,19 @@ std::vector<char> interface_faces(const SurfaceMesh& surface) {
   return out;
 }
 
+namespace {
+
+// Every edge of the surface triangles.
+std::unordered_set<std::uint64_t> surface_edges(const MixedMesh& sm) {
+  std::unordered_set<std::uint64_t> edges;
+  edges.reserve(sm.num_bfaces() * 3 / 2);
+  for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
+    for (int i = 0; i < 3; ++i) edges.insert(edge_key(sm.bface(f)[i], sm.bface(f)[(i + 1) % 3]));
+  return edges;
+}
+
+}  // namespace
+
 std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double flat_sj) {
   MixedMesh& sm = surface.mesh;
   std::unordered_map<TriKey, std::int32_t, TriKeyHash> tri;
@@ -259,14 +272,7 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
   // Surface edges: the diagonal a dropped tet gives the surface must not be one already (where
   // a thin part's sharp edge runs along the tet, that edge would then be in four triangles and
   // the boundary no longer a closed manifold: Propeller.rle at h = 45.29).
-  auto edge_key = [](std::int32_t a, std::int32_t b) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::min(a, b))) << 32) |
-           static_cast<std::uint32_t>(std::max(a, b));
-  };
-  std::unordered_set<std::uint64_t> edges;
-  edges.reserve(sm.num_bfaces() * 3 / 2);
-  for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
-    for (int i = 0; i < 3; ++i) edges.insert(edge_key(sm.bface(f)[i], sm.bface(f)[(i + 1) % 3]));
+  std::unordered_set<std::uint64_t> edges = surface_edges(sm);
   // CAD faces between two glued solids (--glue): tets lie on both sides, so a flat one there is
   // no gap to close by turning the surface diagonal; the other side's tets hold the old one
   // (flip_flat_interface_tets handles it).
@@ -366,6 +372,9 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
   for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
     tri.emplace(tri_key(sm.bface(f)[0], sm.bface(f)[1], sm.bface(f)[2]),
                 static_cast<std::int32_t>(f));
+  // The 2-2 flip below gives the surface a new diagonal, which must not be a surface edge
+  // already (as in drop_flat_boundary_tets: it would then lie in four triangles).
+  std::unordered_set<std::uint64_t> edges;
   const auto& X = tets.nodes;
   auto face_of = [&](const Tet& T, int skip) {
     return tri_key(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]);
@@ -408,6 +417,7 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
     }
   }
   if (flat.empty()) return 0;
+  edges = surface_edges(sm);
   for (std::size_t t = 0; t < tets.tets.size(); ++t)
     for (int skip = 0; skip < 4; ++skip) {
       const auto it = across.find(face_of(tets.tets[t], skip));
@@ -433,7 +443,10 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
       }
       return n[0] != n[1] && apex[0] >= 0 && apex[0] == apex[1] ? apex[0] : -1;
     };
-    // Tets (face of T skipped by skips[k], b), positively oriented; false if one is flat.
+    // Tets (face of T skipped by skips[k], b), positively oriented; false if one is not better
+    // than kMinFlipQuality (as in flip_slivers). They may stay below flat_sj: where the fuse left
+    // two surface nodes microns apart (AS1 at h = 3: a needle triangle on an outer face in the
+    // interface's plane), every tet on that needle is a sliver, but not a flat cell.
     auto make = [&](const int(&skips)[2], std::int32_t b, Tet(&nt)[2]) {
       for (int k = 0; k < 2; ++k) {
         const int skip = skips[k];
@@ -443,7 +456,7 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
         const Vec3 u = v3::sub(x[1], x[0]), v = v3::sub(x[2], x[0]), w = v3::sub(x[3], x[0]);
         if (v3::dot(v3::cross(u, v), w) < 0) std::swap(nt[k][1], nt[k][2]);
         for (int i = 0; i < 4; ++i) x[i] = X[nt[k][i]];
-        if (!(min_scaled_jacobian(CellKind::Tet4, x) >= flat_sj)) return false;
+        if (!(min_scaled_jacobian(CellKind::Tet4, x) > kMinFlipQuality)) return false;
       }
       return true;
     };
@@ -466,9 +479,10 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
     }
     // Else the other solid's side: its two tets on the interface triangles, when they share an
     // apex, are split along T's inner diagonal instead (a 2-2 flip), the interface takes that
-    // diagonal, and T goes. (Unlike drop_flat_boundary_tets, no test that the new diagonal is not
-    // a surface edge already; the mesh's watertightness check would refuse such a result.)
+    // diagonal, and T goes.
     if (!f.one_face) continue;
+    const std::uint64_t new_diag = edge_key(T[f.on[0]], T[f.on[1]]);
+    if (edges.count(new_diag)) continue;
     b = pair_across(f.on, n);
     if (b < 0 || tets.tet_solid[n[0]] != tets.tet_solid[n[1]] || !make(f.off, b, nt)) continue;
     std::int32_t slot[2];
@@ -476,6 +490,8 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
     const std::int32_t* A = sm.bface(slot[0]);
     const Vec3 n1 = v3::cross(v3::sub(X[A[1]], X[A[0]]), v3::sub(X[A[2]], X[A[0]]));
     replace(n, nt, tets.tet_solid[n[0]]);
+    edges.erase(edge_key(T[f.off[0]], T[f.off[1]]));
+    edges.insert(new_diag);
     for (int k = 0; k < 2; ++k) {
       const int skip = f.off[k];
       std::int32_t* fn = &sm.bface_nodes[4 * slot[k]];
