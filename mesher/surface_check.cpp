@@ -82,8 +82,8 @@ bool on_cad_edge(const SurfaceMesh& s, int a, int b) {
          e[static_cast<std::size_t>(b)];
 }
 
-// The intersecting pairs of triangles among `tris` (bface indices, sorted pairs), at most `limit`
-// when limit > 0. `touching`: nodes of touching edges (or empty). Triangles that share such a
+// The intersecting pairs of triangles among `tris` (bface indices, sorted pairs). `touching`:
+// nodes of touching edges (or empty). Triangles that share such a
 // node meet there by construction and are not counted; each triangle gets its own copy of those
 // nodes so that CGAL can build a manifold mesh. nullopt when no CGAL mesh can be built (a
 // non-manifold vertex elsewhere).

@@ -444,9 +444,12 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
       return n[0] != n[1] && apex[0] >= 0 && apex[0] == apex[1] ? apex[0] : -1;
     };
     // Tets (face of T skipped by skips[k], b), positively oriented; false if one is not better
-    // than kMinFlipQuality (as in flip_slivers). They may stay below flat_sj: where the fuse left
-    // two surface nodes microns apart (AS1 at h = 3: a needle triangle on an outer face in the
-    // interface's plane), every tet on that needle is a sliver, but not a flat cell.
+    // than T and kMinFlipQuality (as in flip_slivers). They may stay below flat_sj: where the
+    // fuse left two surface nodes microns apart (AS1 at h = 3: a needle triangle on an outer face
+    // in the interface's plane), every tet on that needle is a sliver, but not a flat cell.
+    Vec3 xt[4];
+    for (int i = 0; i < 4; ++i) xt[i] = X[T[i]];
+    const double floor = std::max(min_scaled_jacobian(CellKind::Tet4, xt), kMinFlipQuality);
     auto make = [&](const int(&skips)[2], std::int32_t b, Tet(&nt)[2]) {
       for (int k = 0; k < 2; ++k) {
         const int skip = skips[k];
@@ -456,7 +459,7 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
         const Vec3 u = v3::sub(x[1], x[0]), v = v3::sub(x[2], x[0]), w = v3::sub(x[3], x[0]);
         if (v3::dot(v3::cross(u, v), w) < 0) std::swap(nt[k][1], nt[k][2]);
         for (int i = 0; i < 4; ++i) x[i] = X[nt[k][i]];
-        if (!(min_scaled_jacobian(CellKind::Tet4, x) > kMinFlipQuality)) return false;
+        if (!(min_scaled_jacobian(CellKind::Tet4, x) > floor)) return false;
       }
       return true;
     };
