@@ -150,6 +150,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
                   std::abs(r.volume.volume_gap_before), keep);
     r.warnings.push_back(buf);
   }
+  for (std::string& w : touching_lumps(cad)) r.warnings.push_back(std::move(w));
   r.total_seconds = seconds_since(t0) + r.cad_seconds;
   return mesh;
 }

@@ -147,28 +147,47 @@ void drop_unused_nodes(SurfaceMesh& s) {
     if (v >= 0) v = index[static_cast<std::size_t>(v)];
 }
 
+// The face sides on each CAD edge of solid s (degenerate edges left out).
+std::map<int, std::vector<int>> edge_uses(const CadModel& cad, int s) {
+  std::map<int, std::vector<int>> uses;
+  for (int f : cad.faces_of_solid(s))
+    for (const auto& ce : cad.coedges(f))
+      if (!cad.edge_degenerate(ce.edge)) uses[ce.edge].push_back(f);
+  return uses;
+}
+
+std::string face_list(const std::vector<int>& fs) {
+  std::string list;
+  for (int f : fs) list += (list.empty() ? "" : ", ") + std::to_string(f);
+  return list;
+}
+
 // Two lumps of a solid may touch along an edge: it then bounds four face sides (or another even
 // number), and the surface mesh is closed and oriented though not manifold there; TetGen, the
 // recombination and the solver take it as it is (the lumps share the edge's nodes). An odd
 // number above two is a face inside the solid or hanging from it (no closed surface): refused
 // with the edge and its faces named.
 void require_closed_solids(const CadModel& cad) {
-  for (int s = 1; s <= cad.num_solids(); ++s) {
-    std::map<int, std::vector<int>> uses;
-    for (int f : cad.faces_of_solid(s))
-      for (const auto& ce : cad.coedges(f))
-        if (!cad.edge_degenerate(ce.edge)) uses[ce.edge].push_back(f);
-    for (const auto& [e, fs] : uses) {
-      if (fs.size() <= 2 || fs.size() % 2 == 0) continue;
-      std::string list;
-      for (int f : fs) list += (list.empty() ? "" : ", ") + std::to_string(f);
-      throw CadError("solid " + std::to_string(s) + " is not manifold: edge " + std::to_string(e) +
-                     " bounds " + std::to_string(fs.size()) + " face sides (faces " + list + ")");
-    }
-  }
+  for (int s = 1; s <= cad.num_solids(); ++s)
+    for (const auto& [e, fs] : edge_uses(cad, s))
+      if (fs.size() > 2 && fs.size() % 2 == 1)
+        throw CadError("solid " + std::to_string(s) + " is not manifold: edge " +
+                       std::to_string(e) + " bounds " + std::to_string(fs.size()) +
+                       " face sides (faces " + face_list(fs) + ")");
 }
 
 }  // namespace
+
+std::vector<std::string> touching_lumps(const CadModel& cad) {
+  std::vector<std::string> out;
+  for (int s = 1; s <= cad.num_solids(); ++s)
+    for (const auto& [e, fs] : edge_uses(cad, s))
+      if (fs.size() > 2 && fs.size() % 2 == 0)
+        out.push_back("lumps of solid " + std::to_string(s) + " touch along CAD edge " +
+                      std::to_string(e) + " (faces " + face_list(fs) +
+                      "): the mesh joins them there by that edge's nodes only");
+  return out;
+}
 
 double estimate_surface_points(const CadModel& cad, const SurfaceOptions& options) {
   const SizeField size(cad, size_options(options));

@@ -59,6 +59,10 @@ struct SurfaceReport {
 SurfaceMesh mesh_surface(const CadModel& cad, const SurfaceOptions& options,
                          SurfaceReport* report = nullptr);
 
+// One line per CAD edge where two lumps of a solid touch (an edge bounding four or another even
+// number of face sides): meshed as it is, but the joint is a line, which a user should know of.
+std::vector<std::string> touching_lumps(const CadModel& cad);
+
 // Surface points the options would give, from the areas (the check behind max_points).
 double estimate_surface_points(const CadModel& cad, const SurfaceOptions& options);
 

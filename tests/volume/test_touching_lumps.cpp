@@ -44,6 +44,11 @@ TEST(TouchingLumps, ASolidWhoseLumpsTouchAlongAnEdgeMeshesAndVibratesAsOneBody) 
   EXPECT_NEAR(two["mesh_volume"].get<double>(), two["cad_volume"].get<double>(),
               0.01 * two["cad_volume"].get<double>());
   EXPECT_EQ(cadtest::file_bytes(work + "/geh_1.msh"), cadtest::file_bytes(work + "/geh_2.msh"));
+  // The user hears where the lumps touch: the joint is only a line of nodes.
+  bool told = false;
+  for (const auto& w : two["warnings"])
+    told |= w.get<std::string>().find("touch along CAD edge 51") != std::string::npos;
+  EXPECT_TRUE(told) << two["warnings"].dump();
 
   std::ifstream ref_file(std::string(HEXFEM_SOURCE_DIR) +
                          "/validation/reference/gehause_free.json");
