@@ -6,6 +6,7 @@
 #include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
 #include "mesher/cad/cad_model.hpp"
+#include "mesher/surface_pipeline.hpp"
 
 namespace hexfem {
 namespace {
@@ -22,6 +23,7 @@ nlohmann::json model_json(const std::string& file, const CadModel& cad) {
   j["unit"] = "mm";
   j["unit_scale"] = cad.unit_scale();
   j["warnings"] = cad.warnings();
+  for (const std::string& w : touching_lumps(cad)) j["warnings"].push_back(w);
   j["num_vertices"] = cad.num_vertices();
   j["num_edges"] = cad.num_edges();
   j["num_faces"] = cad.num_faces();
@@ -50,6 +52,7 @@ void print_text(const std::string& file, const CadModel& cad) {
   std::printf("%s: %s, file unit %s (lengths below in mm, scale %g)\n", file.c_str(),
               cad.format().c_str(), cad.file_unit().c_str(), cad.unit_scale());
   for (const auto& w : cad.warnings()) std::printf("note: %s\n", w.c_str());
+  for (const auto& w : touching_lumps(cad)) std::printf("note: %s\n", w.c_str());
   std::printf("%d solid(s), %d faces, %d edges, %d vertices\n", cad.num_solids(), cad.num_faces(),
               cad.num_edges(), cad.num_vertices());
   std::printf("volume %.6g mm^3, area %.6g mm^2\n", cad.volume(), cad.area());

@@ -23,6 +23,12 @@ TEST(TouchingLumps, ASolidWhoseLumpsTouchAlongAnEdgeMeshesAndVibratesAsOneBody) 
   const std::string part = cadtest::data("gehause_rohteil.stp");
   int status = 0;
 
+  // `info` names the edge before any meshing.
+  const nlohmann::json info = cadtest::run_cli_json("info " + part + " --json", &status);
+  ASSERT_EQ(status, 0) << info.dump();
+  EXPECT_NE(info["warnings"].dump().find("touch along CAD edge 51"), std::string::npos)
+      << info["warnings"].dump();
+
   const nlohmann::json surface = cadtest::run_cli_json(
       "mesh " + part + " --h 1.396 --dim 2 --json -o " + work + "/geh_surface.msh", &status);
   ASSERT_EQ(status, 0) << surface.dump();
