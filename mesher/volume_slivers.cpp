@@ -418,13 +418,21 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
   }
   if (flat.empty()) return 0;
   edges = surface_edges(sm);
-  for (std::size_t t = 0; t < tets.tets.size(); ++t)
+  // Only a tet with three corners among the flat tets' can hold one of their faces: the others
+  // skip the lookups.
+  std::vector<char> at_flat(X.size(), 0);
+  for (const Flat& f : flat)
+    for (std::int32_t v : tets.tets[f.t]) at_flat[v] = 1;
+  for (std::size_t t = 0; t < tets.tets.size(); ++t) {
+    const Tet& T = tets.tets[t];
+    if (at_flat[T[0]] + at_flat[T[1]] + at_flat[T[2]] + at_flat[T[3]] < 3) continue;
     for (int skip = 0; skip < 4; ++skip) {
-      const auto it = across.find(face_of(tets.tets[t], skip));
+      const auto it = across.find(face_of(T, skip));
       if (it == across.end()) continue;
       auto& slot = it->second;
       (slot[0] < 0 ? slot[0] : slot[1]) = static_cast<std::int32_t>(t);
     }
+  }
   std::vector<char> gone(tets.tets.size(), 0);
   std::vector<Tet> added;
   std::vector<std::int32_t> added_solid;
