@@ -28,9 +28,9 @@ from concurrent.futures import ThreadPoolExecutor
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "data")
-STEP_SEEDS = ["box.stp", "cylinder.stp", "sphere.stp"]
+STEP_SEEDS = ["box.stp", "cylinder.stp", "sphere.stp", "gehause_rohteil.stp"]
 # Mesh size per STEP seed: coarse, so a valid input meshes in well under a second.
-STEP_H = {"box.stp": 0.25, "cylinder.stp": 3.0, "sphere.stp": 3.0}
+STEP_H = {"box.stp": 0.25, "cylinder.stp": 3.0, "sphere.stp": 3.0, "gehause_rohteil.stp": 1.4}
 SANITIZER = re.compile(rb"ERROR: AddressSanitizer|ERROR: LeakSanitizer|runtime error:|"
                        rb"SUMMARY: UndefinedBehaviorSanitizer")
 NUMBER = re.compile(rb"-?\d+\.?\d*(?:[eE][-+]?\d+)?")
