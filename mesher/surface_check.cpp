@@ -82,11 +82,19 @@ bool on_cad_edge(const SurfaceMesh& s, int a, int b) {
          e[static_cast<std::size_t>(b)];
 }
 
+// Marks the two nodes of a touching edge in `touching` (sized to the mesh's nodes on first use).
+void mark_touching(std::vector<char>& touching, std::size_t num_nodes,
+                   const std::pair<int, int>& edge) {
+  touching.resize(num_nodes, 0);
+  touching[static_cast<std::size_t>(edge.first)] = 1;
+  touching[static_cast<std::size_t>(edge.second)] = 1;
+}
+
 // The intersecting pairs of triangles among `tris` (bface indices, sorted pairs). `touching`:
-// nodes of touching edges (or empty). Triangles that share such a
-// node meet there by construction and are not counted; each triangle gets its own copy of those
-// nodes so that CGAL can build a manifold mesh. nullopt when no CGAL mesh can be built (a
-// non-manifold vertex elsewhere).
+// nodes of touching edges (or empty). Triangles that share such a node meet there by
+// construction and are not counted; each triangle gets its own copy of those nodes so that CGAL
+// can build a manifold mesh. nullopt when no CGAL mesh can be built (a non-manifold vertex
+// elsewhere).
 std::optional<std::vector<std::pair<std::size_t, std::size_t>>> intersecting_triangles(
     const MixedMesh& m, const std::vector<std::size_t>& tris, const std::vector<char>& touching) {
   PmpMesh mesh;
@@ -246,9 +254,7 @@ std::vector<SolidCheck> check_solids(const SurfaceMesh& s, bool self_intersectio
           break;
         case EdgeUse::touching:
           ++c.touching_edges;
-          touching.resize(m.nodes.size(), 0);
-          touching[static_cast<std::size_t>(key.first)] = 1;
-          touching[static_cast<std::size_t>(key.second)] = 1;
+          mark_touching(touching, m.nodes.size(), key);
           break;
         case EdgeUse::ok:
           break;
@@ -305,11 +311,7 @@ std::vector<std::string> surface_defects(const SurfaceMesh& s, std::size_t max_l
     std::vector<char> touching;
     for (const auto& [key, fs] : edges) {
       const EdgeUse use = edge_use(dir[key], on_cad_edge(s, key.first, key.second));
-      if (use == EdgeUse::touching) {
-        touching.resize(m.nodes.size(), 0);
-        touching[static_cast<std::size_t>(key.first)] = 1;
-        touching[static_cast<std::size_t>(key.second)] = 1;
-      }
+      if (use == EdgeUse::touching) mark_touching(touching, m.nodes.size(), key);
       const char* what = use == EdgeUse::open          ? "open"
                          : use == EdgeUse::nonmanifold ? "non-manifold"
                          : use == EdgeUse::misoriented ? "misoriented"

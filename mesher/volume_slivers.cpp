@@ -372,9 +372,6 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
   for (std::size_t f = 0; f < sm.num_bfaces(); ++f)
     tri.emplace(tri_key(sm.bface(f)[0], sm.bface(f)[1], sm.bface(f)[2]),
                 static_cast<std::int32_t>(f));
-  // The 2-2 flip below gives the surface a new diagonal, which must not be a surface edge
-  // already (as in drop_flat_boundary_tets: it would then lie in four triangles).
-  std::unordered_set<std::uint64_t> edges;
   const auto& X = tets.nodes;
   auto face_of = [&](const Tet& T, int skip) {
     return tri_key(T[(skip + 1) % 4], T[(skip + 2) % 4], T[(skip + 3) % 4]);
@@ -384,6 +381,7 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
   // tets across them.
   struct Flat {
     std::int32_t t;
+    double sj;  // its min scaled Jacobian
     int on[2], off[2];
     bool one_face;  // both surface faces on the same CAD face
   };
@@ -393,8 +391,9 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
     const Tet& T = tets.tets[t];
     Vec3 x[4];
     for (int i = 0; i < 4; ++i) x[i] = X[T[i]];
-    if (!(min_scaled_jacobian(CellKind::Tet4, x) < flat_sj)) continue;
-    Flat f{static_cast<std::int32_t>(t), {-1, -1}, {-1, -1}, false};
+    const double sj = min_scaled_jacobian(CellKind::Tet4, x);
+    if (!(sj < flat_sj)) continue;
+    Flat f{static_cast<std::int32_t>(t), sj, {-1, -1}, {-1, -1}, false};
     int ns = 0, no = 0;
     std::int32_t cad[2] = {-1, -1};
     for (int skip = 0; skip < 4; ++skip) {
@@ -417,7 +416,9 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
     }
   }
   if (flat.empty()) return 0;
-  edges = surface_edges(sm);
+  // The 2-2 flip below gives the surface a new diagonal, which must not be a surface edge
+  // already (as in drop_flat_boundary_tets: it would then lie in four triangles).
+  std::unordered_set<std::uint64_t> edges = surface_edges(sm);
   // Only a tet with three corners among the flat tets' can hold one of their faces: the others
   // skip the lookups.
   std::vector<char> at_flat(X.size(), 0);
@@ -455,9 +456,7 @@ std::size_t flip_flat_interface_tets(TetMesh& tets, SurfaceMesh& surface, double
     // than T and kMinFlipQuality (as in flip_slivers). They may stay below flat_sj: where the
     // fuse left two surface nodes microns apart (AS1 at h = 3: a needle triangle on an outer face
     // in the interface's plane), every tet on that needle is a sliver, but not a flat cell.
-    Vec3 xt[4];
-    for (int i = 0; i < 4; ++i) xt[i] = X[T[i]];
-    const double floor = std::max(min_scaled_jacobian(CellKind::Tet4, xt), kMinFlipQuality);
+    const double floor = std::max(f.sj, kMinFlipQuality);
     auto make = [&](const int(&skips)[2], std::int32_t b, Tet(&nt)[2]) {
       for (int k = 0; k < 2; ++k) {
         const int skip = skips[k];
