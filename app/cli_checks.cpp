@@ -106,12 +106,14 @@ void check_mesh_volume(double mesh_volume, double cad_volume, double h, bool for
 
 void parse_size_at(const std::vector<std::string>& specs, double h,
                    std::vector<std::pair<int, double>>& vertex_sizes,
-                   std::vector<std::pair<int, double>>& face_sizes) {
-  static const std::regex re(R"((vertex|face):(\d+)=([-+0-9.eE]+)(h?))");
+                   std::vector<std::pair<int, double>>& face_sizes,
+                   std::vector<std::pair<int, double>>& edge_sizes) {
+  static const std::regex re(R"((vertex|edge|face):(\d+)=([-+0-9.eE]+)(h?))");
   for (const auto& s : specs) {
     std::smatch m;
     const std::string expected =
-        "--size-at '" + s + "': expected vertex:ID=S or face:ID=S (S in mm, or like 0.5h)";
+        "--size-at '" + s +
+        "': expected vertex:ID=S, edge:ID=S or face:ID=S (S in mm, or like 0.5h)";
     if (!std::regex_match(s, m, re)) throw Error(expected);
     int id = 0;
     double size = 0;
@@ -122,7 +124,11 @@ void parse_size_at(const std::vector<std::string>& specs, double h,
       throw Error(expected);
     }
     if (m[4].length() > 0) size *= h;
-    (m[1].str() == "vertex" ? vertex_sizes : face_sizes).emplace_back(id, size);
+    const std::string kind = m[1].str();
+    (kind == "vertex" ? vertex_sizes
+     : kind == "edge" ? edge_sizes
+                      : face_sizes)
+        .emplace_back(id, size);
   }
 }
 

@@ -33,13 +33,14 @@ void check_finite(const std::string& option, double value);
 void check_mesh_volume(double mesh_volume, double cad_volume, double h, bool force,
                        double limit = 0.10);
 
-// --size-at values, each "vertex:ID=S" or "face:ID=S", S in mm or, written "0.5h", a fraction of
-// the global size h (so one option serves every size of a convergence study). Appends
+// --size-at values, each "vertex:ID=S", "edge:ID=S" or "face:ID=S", S in mm or, written "0.5h", a
+// fraction of the global size h (so one option serves every size of a convergence study). Appends
 // (id, size) pairs; ids and sizes are checked against the part by the size field. Throws
 // hexfem::Error on bad syntax.
 void parse_size_at(const std::vector<std::string>& specs, double h,
                    std::vector<std::pair<int, double>>& vertex_sizes,
-                   std::vector<std::pair<int, double>>& face_sizes);
+                   std::vector<std::pair<int, double>>& face_sizes,
+                   std::vector<std::pair<int, double>>& edge_sizes);
 
 // --glue's help, shared by `mesh`, `modal` and `converge`.
 inline constexpr const char* kGlueHelp =

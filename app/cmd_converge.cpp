@@ -52,7 +52,7 @@ int run(const ConvergeArgs& a) {
   std::vector<std::pair<std::string, std::string>> solvers;  // per row: path taken, why
   std::vector<int> curvature;  // per row: the mesh's curvature bound (0 = none)
   for (std::size_t i = 0; i < a.sizes.size(); ++i) {
-    const MeshOptions mesh = cad_mesh_options(a.modal, a.sizes[i]);
+    const MeshOptions mesh = cad_mesh_options(a.modal, a.sizes[i], cad);
     std::fprintf(stderr, "converge: run %zu/%zu, h = %g ...\n", i + 1, a.sizes.size(), a.sizes[i]);
     const PartModalResult r = run_part_modal(cad, mesh, modal, a.modal.force, a.modal.order);
     ConvergenceRow row;

@@ -1,5 +1,6 @@
 // `hexfem mesh part.step --h 1.0 [--dim 3|2] -o mesh.msh|.vtu|.inp [--json] [--force]
-//  [--curvature N] [--size-at vertex|face:ID=S]...`: the hex-dominant mesh of a CAD part (--dim 3,
+//  [--curvature N] [--size-at vertex|edge|face:ID=S]...`: the hex-dominant mesh of a CAD part
+//  (--dim 3,
 // the default; volume_mesh_cli.cpp) or its surface mesh (--dim 2).
 #include <chrono>
 #include <cstdio>
@@ -56,7 +57,7 @@ int run(const MeshArgs& a) {
   opt.curvature = a.curvature;
   opt.force = a.force;
   opt.align_opposite = a.align_opposite;
-  parse_size_at(a.size_at, a.h, opt.vertex_sizes, opt.face_sizes);
+  parse_size_at(a.size_at, a.h, opt.vertex_sizes, opt.face_sizes, opt.edge_sizes);
   if (a.dim == 3) {
     VolumeMeshArgs v;
     v.file = a.file;
@@ -162,8 +163,8 @@ RegisterCommand reg{
                       "curvature bound: N elements per 2*pi (0 = off)");
        sub.add_option(
            "--size-at", a->size_at,
-           "size at a CAD vertex or face, repeatable: vertex:ID=S | face:ID=S (S in mm, or "
-           "0.5h: a fraction of --h)");
+           "size at a CAD vertex, edge or face, repeatable: vertex:ID=S | edge:ID=S | face:ID=S "
+           "(S in mm, or 0.5h: a fraction of --h)");
        sub.add_flag("--binary", a->binary, "write MSH 4.1 binary");
        sub.add_option("--k", a->volume.k, "point exclusion factor k (paper: 0.7)");
        sub.add_option("--min-quality", a->volume.min_quality,

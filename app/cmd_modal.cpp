@@ -121,6 +121,8 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
     if (a.modal.no_pyramids)
       throw Error("--no-pyramids is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.glue) throw Error("--glue is for CAD input; '" + a.mesh + "' is already a mesh");
+    if (a.modal.singular_size != -1)
+      throw Error("--singular-size is for CAD input; '" + a.mesh + "' is already a mesh");
   }
   if (!a.mesh_out.empty())
     check_output_file("--mesh-out", a.mesh_out, {"msh", "vtu", "inp"}, {a.mesh});
@@ -146,7 +148,7 @@ int run(const Args& a) {
   PartModalResult part;
   if (cad_input) {
     const CadModel cad = CadModel::read(a.mesh, CadReadOptions{a.modal.glue});
-    const MeshOptions mesh_options = cad_mesh_options(a.modal, a.h);
+    const MeshOptions mesh_options = cad_mesh_options(a.modal, a.h, cad);
     part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
     mesh = std::move(part.mesh);
     r = std::move(part.modal);

@@ -7,6 +7,7 @@
 #include "fem/boundary.hpp"
 #include "fem/material.hpp"
 #include "mesher/mesh/error.hpp"
+#include "mesher/singular_edges.hpp"
 
 namespace hexfem {
 
@@ -33,8 +34,8 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
   sub.add_flag("--conformal", o.conformal,
                "CAD input: a mesh with no NC face (each made conformal with a pyramid and tets)");
   sub.add_option("--size-at", o.size_at,
-                 "CAD input: size at a CAD vertex or face, repeatable: vertex:ID=S | face:ID=S (S "
-                 "in mm, or 0.5h: a fraction of --h)");
+                 "CAD input: size at a CAD vertex, edge or face, repeatable: vertex:ID=S | "
+                 "edge:ID=S | face:ID=S (S in mm, or 0.5h: a fraction of --h)");
   sub.add_option("--curvature", o.curvature,
                  "CAD input: curvature bound, N elements per 2*pi on curved edges and faces (0 = "
                  "off). Default: " +
@@ -49,6 +50,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                  "(mesher study switch, as on `mesh`)")
       ->check(CLI::Range(0.0, 10.0));
   sub.add_flag("--glue", o.glue, std::string("CAD input: ") + kGlueHelp);
+  sub.add_option("--singular-size", o.singular_size,
+                 "CAD input: size at re-entrant edges and at the rim of clamped faces, a fraction "
+                 "of --h, e.g. 0.25 (default: off)");
   sub.add_flag("--no-pyramids", o.no_pyramids,
                "CAD input: make no pyramids (a quad face against two triangles stays NC; tied at "
                "order 2)");
@@ -56,7 +60,33 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
 }
 
-MeshOptions cad_mesh_options(const ModalCliOptions& o, double h) {
+std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::string>& fix) {
+  std::vector<int> faces;
+  for (const std::string& text : fix) {
+    const FixSpec spec = parse_fix_spec(text);
+    if (!(spec.component[0] && spec.component[1] && spec.component[2])) continue;
+    if (spec.kind == FixSpec::Kind::Faces)
+      faces.insert(faces.end(), spec.faces.begin(), spec.faces.end());
+    if (spec.kind != FixSpec::Kind::Coordinates) continue;
+    for (int f = 1; f <= cad.num_faces(); ++f) {
+      const BBox3 b = cad.face_bbox(f);
+      const bool inside = std::all_of(spec.conditions.begin(), spec.conditions.end(),
+                                      [&](const FixSpec::Condition& c) {
+                                        const double lo = b.min[c.axis], hi = b.max[c.axis];
+                                        if (c.op == "<") return hi < c.value;
+                                        if (c.op == "<=") return hi <= c.value;
+                                        if (c.op == ">") return lo > c.value;
+                                        return lo >= c.value;
+                                      });
+      if (inside) faces.push_back(f);
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const CadModel& cad) {
   if (o.curvature != -1 && (o.curvature < 0 || (o.curvature > 0 && o.curvature < 3)))
     throw Error("--curvature must be 0 (off) or at least 3 elements per 2*pi (got " +
                 std::to_string(o.curvature) + ")");
@@ -68,7 +98,19 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h) {
     m.surface.curvature = kOrder2Curvature;
     m.surface.curvature_min_ratio = kOrder2CurvatureMinRatio;
   }
-  parse_size_at(o.size_at, h, m.surface.vertex_sizes, m.surface.face_sizes);
+  parse_size_at(o.size_at, h, m.surface.vertex_sizes, m.surface.face_sizes, m.surface.edge_sizes);
+  if (o.singular_size != -1 && !(o.singular_size >= 0 && o.singular_size <= 1))
+    throw Error("--singular-size must be a fraction of --h in [0, 1] (0 = off), got " +
+                std::to_string(o.singular_size));
+  const double singular = std::max(0.0, o.singular_size);
+  if (singular > 0) {
+    std::vector<int> edges = reentrant_edges(cad);
+    const std::vector<int> rim = rim_edges(cad, clamped_cad_faces(cad, o.fix));
+    edges.insert(edges.end(), rim.begin(), rim.end());
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (int e : edges) m.surface.edge_sizes.emplace_back(e, singular * h);
+  }
   m.volume.conformal = o.conformal;
   m.volume.relax_points = std::max(0, o.relax_points);
   m.surface.align_opposite = std::max(0.0, o.align_opposite);

@@ -14,7 +14,7 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
     : cad_(cad),
       h_(options.h),
       curvature_(options.curvature),
-      graded_(!options.face_sizes.empty()) {
+      graded_(!options.face_sizes.empty() || !options.edge_sizes.empty()) {
   if (!(h_ > 0) || !std::isfinite(h_))
     throw Error("the mesh size h must be > 0 (got " + std::to_string(h_) + ")");
   if (curvature_ < 0) throw Error("--curvature must be >= 0 elements per 2*pi");
@@ -52,21 +52,31 @@ SizeField::SizeField(const CadModel& cad, const SizeOptions& options)
   constexpr double kNone = std::numeric_limits<double>::infinity();
   graded_vertex_size_.assign(vertex_size_.size(), kNone);
   face_edge_size_.assign(static_cast<std::size_t>(cad.num_edges()), kNone);
+  // An edge at size s: its ends too, from which the edges leaving them grow back.
+  auto size_edge = [&](int e, double s) {
+    auto& es = face_edge_size_[static_cast<std::size_t>(e - 1)];
+    es = std::min(es, s);
+    for (int v : cad.edge_vertices(e))
+      if (v > 0) {
+        auto& vs = graded_vertex_size_[static_cast<std::size_t>(v - 1)];
+        vs = std::min(vs, s);
+      }
+  };
   for (const auto& [f, s] : options.face_sizes) {
     if (f < 1 || f > cad.num_faces())
       throw Error("--size-at: no face " + std::to_string(f) + " (the part has " +
                   std::to_string(cad.num_faces()) + " faces)");
     check_size("face", f, s);
     h_min_ = std::min(h_min_, s);
-    for (const CoEdge& ce : cad.coedges(f)) {
-      auto& es = face_edge_size_[static_cast<std::size_t>(ce.edge - 1)];
-      es = std::min(es, s);
-      for (int v : cad.edge_vertices(ce.edge))
-        if (v > 0) {
-          auto& vs = graded_vertex_size_[static_cast<std::size_t>(v - 1)];
-          vs = std::min(vs, s);
-        }
-    }
+    for (const CoEdge& ce : cad.coedges(f)) size_edge(ce.edge, s);
+  }
+  for (const auto& [e, s] : options.edge_sizes) {
+    if (e < 1 || e > cad.num_edges())
+      throw Error("--size-at: no edge " + std::to_string(e) + " (the part has " +
+                  std::to_string(cad.num_edges()) + " edges)");
+    check_size("edge", e, s);
+    h_min_ = std::min(h_min_, s);
+    size_edge(e, s);
   }
   edge_uses_.resize(static_cast<std::size_t>(cad.num_edges()));
   for (int f = 1; f <= cad.num_faces(); ++f) {

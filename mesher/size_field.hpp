@@ -32,6 +32,9 @@ struct SizeOptions {
   // the edges) and the volume next to it do too; edges leaving the face grow from it by
   // kFaceSizeGrading per mm instead of spreading the fine size along their whole length.
   std::vector<std::pair<int, double>> face_sizes;
+  // (CAD edge id, size): the edge takes at most that size, and everything around it grows from
+  // it at kFaceSizeGrading (singular edges, singular_edges.hpp).
+  std::vector<std::pair<int, double>> edge_sizes;
   // The curvature bound never goes below h * min_ratio (a tiny fillet radius would otherwise
   // ask for an unbounded number of points).
   double min_ratio = 0.05;
@@ -43,7 +46,7 @@ struct SizeOptions {
 
 class SizeField {
  public:
-  // Throws hexfem::Error on h <= 0, a bad vertex or face id or a size <= 0.
+  // Throws hexfem::Error on h <= 0, a bad vertex, edge or face id or a size <= 0.
   SizeField(const CadModel& cad, const SizeOptions& options);
 
   double global() const { return h_; }

@@ -56,6 +56,7 @@ SizeOptions size_options(const SurfaceOptions& o) {
   s.curvature_min_ratio = o.curvature_min_ratio;
   s.vertex_sizes = o.vertex_sizes;
   s.face_sizes = o.face_sizes;
+  s.edge_sizes = o.edge_sizes;
   return s;
 }
 

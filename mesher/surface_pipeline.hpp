@@ -22,6 +22,7 @@ struct SurfaceOptions {
   double curvature_min_ratio = 0;  // the curvature bound stops at h * this (SizeOptions)
   std::vector<std::pair<int, double>> vertex_sizes;  // (CAD vertex id, size)
   std::vector<std::pair<int, double>> face_sizes;    // (CAD face id, size)
+  std::vector<std::pair<int, double>> edge_sizes;    // (CAD edge id, size)
   double k = 0.7;                                    // packing exclusion factor (paper: 0.7)
   // --align-opposite T: faces across a wall up to T sizes thick are packed from each other's
   // points (opposite_seeds; 0 = off, a study switch).

@@ -110,7 +110,7 @@ TEST(CliSurface, BadInputFailsWithOneLine) {
   expect_error("mesh " + box + " --h -1 --dim 2", "--h must be > 0");
   expect_error("mesh " + box + " --h 0.0001 --dim 2", "--force");
   expect_error("mesh " + box + " --h 0.1 --dim 2 --size-at vertex:1", "expected vertex:ID=S");
-  expect_error("mesh " + box + " --h 0.1 --dim 2 --size-at edge:1=0.1", "expected vertex:ID=S");
+  expect_error("mesh " + box + " --h 0.1 --dim 2 --size-at solid:1=0.1", "expected vertex:ID=S");
   expect_error("mesh " + box + " --h 0.1 --dim 2 --size-at vertex:77=0.1", "no vertex 77");
   expect_error("mesh " + box + " --h 0.1 --dim 2 --size-at face:7=0.5h", "no face 7");
   expect_error("mesh " + box + " --h 0.1 --dim 2 --size-at face:1=0h", "size must be > 0");

@@ -1,0 +1,114 @@
+// Singular edges (mesher/singular_edges.hpp) and edge sizes (--size-at edge:ID=S): checked on an
+// L-shaped block whose one inner corner is counted by hand, against a box (no inner corner),
+// and by counting the surface points on a sized edge (its length over the size).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cad_test_util.hpp"
+#include "mesher/cad/cad_model.hpp"
+#include "mesher/singular_edges.hpp"
+#include "mesher/surface_pipeline.hpp"
+
+namespace hexfem {
+namespace {
+
+using cadtest::data;
+
+// l_block.step: a 20 x 10 x 10 box with a 10 x 10 x 10 box on its left half
+// (tests/data/SOURCES.md). Its only re-entrant edge is the inner corner of the L: x = 10, z = 10, y
+// from 0 to 10.
+bool is_inner_corner(const CadModel& cad, int e) {
+  for (int v : cad.edge_vertices(e)) {
+    const Vec3 p = cad.vertex_point(v);
+    if (std::abs(p[0] - 10) > 1e-6 || std::abs(p[2] - 10) > 1e-6) return false;
+  }
+  return true;
+}
+
+TEST(SingularEdges, TheInnerCornerOfAnLBlockIsItsOnlyReentrantEdge) {
+  const CadModel cad = CadModel::read(data("l_block.step"));
+  const std::vector<int> edges = reentrant_edges(cad);
+  ASSERT_EQ(edges.size(), 1u);
+  EXPECT_TRUE(is_inner_corner(cad, edges[0]));
+  // Twelve convex edges on a box, and none re-entrant.
+  EXPECT_TRUE(reentrant_edges(CadModel::read(data("box.stp"))).empty());
+  // A cylinder's seam and rims are not either.
+  EXPECT_TRUE(reentrant_edges(CadModel::read(data("cylinder.stp"))).empty());
+}
+
+TEST(SingularEdges, TheRimOfFacesIsTheirEdgesThatBoundAFaceOutside) {
+  const CadModel cad = CadModel::read(data("l_block.step"));
+  // Face 4 is the bottom (z = 0, 20 x 10): its four edges. With face 5 (the end x = 20), the
+  // edge they share is inside the region: 4 + 4 - 2 = 6.
+  EXPECT_EQ(rim_edges(cad, {4}).size(), 4u);
+  EXPECT_EQ(rim_edges(cad, {4, 5}).size(), 6u);
+  // Every face: no rim.
+  std::vector<int> all;
+  for (int f = 1; f <= cad.num_faces(); ++f) all.push_back(f);
+  EXPECT_TRUE(rim_edges(cad, all).empty());
+}
+
+// Surface nodes on the inner-corner line.
+std::size_t points_on_inner_corner(const SurfaceMesh& s) {
+  std::size_t n = 0;
+  for (const Vec3& p : s.mesh.nodes) n += std::abs(p[0] - 10) < 1e-9 && std::abs(p[2] - 10) < 1e-9;
+  return n;
+}
+
+TEST(SingularEdges, AnEdgeSizeSetsTheSpacingAlongTheEdge) {
+  const CadModel cad = CadModel::read(data("l_block.step"));
+  const int e = reentrant_edges(cad).at(0);
+  SurfaceOptions opt;
+  opt.h = 2;
+  // 10 mm at h = 2: 5 segments, 6 points; at 0.5 mm: 20 segments, 21 points.
+  EXPECT_EQ(points_on_inner_corner(mesh_surface(cad, opt)), 6u);
+  opt.edge_sizes = {{e, 0.5}};
+  const SurfaceMesh fine = mesh_surface(cad, opt);
+  EXPECT_EQ(points_on_inner_corner(fine), 21u);
+  // The size grows back away from the edge: the far end face (x = 20) keeps about h.
+  std::size_t far = 0;
+  for (const Vec3& p : fine.mesh.nodes) far += std::abs(p[0] - 20) < 1e-9;
+  EXPECT_LE(far, 40u);  // 10 x 10 face at h = 2: about 36 points
+}
+
+TEST(SingularEdges, BadEdgeSizesAndSingularSizesAreOneLineErrors) {
+  const std::string part = data("l_block.step");
+  cadtest::expect_one_line_error(
+      "mesh " + part + " --h 2 --size-at edge:99=1 -o " + cadtest::work("se.msh").string(),
+      "no edge 99 (the part has 18 edges)");
+  cadtest::expect_one_line_error("modal " + part + " --h 2 --fix face:1 --singular-size 2",
+                                 "--singular-size must be a fraction of --h in [0, 1]");
+  cadtest::expect_one_line_error("modal " + part + " --h 2 --fix face:1 --singular-size -0.5",
+                                 "--singular-size must be a fraction of --h in [0, 1]");
+}
+
+// The clamped round bar (cylinder.stp, clamped at y = 177.5), order 2, against the structured
+// C3D20 reference (validation/reference/cylinder_c20.json, +-0.014 %): graded towards the clamp's
+// rim, a mesh of half the DOF is more accurate than the uniform one (validation/order2.md,
+// "Graded towards the singular edges": 7,350 DOF at 0.125 % against 15,630 at 0.139 %).
+TEST(SingularEdges, GradedTowardsTheClampARoundBarNeedsFewerDofs) {
+  std::ifstream in(std::string(HEXFEM_SOURCE_DIR) + "/validation/reference/cylinder_c20.json");
+  const auto ref = nlohmann::json::parse(in)["reference_hz"];
+  auto max_error = [&](const nlohmann::json& j) {
+    double e = 0;
+    for (int m = 0; m < 4; ++m)
+      e = std::max(
+          e, std::abs(j["modes"][m]["frequency_hz"].get<double>() / ref[m].get<double>() - 1));
+    return e;
+  };
+  const std::string base = "modal " + data("cylinder.stp") + " --fix 'y<177.501' --modes 4 --json";
+  int rc = 0;
+  const auto uniform = cadtest::run_cli_json(base + " --h 2", &rc);
+  ASSERT_EQ(rc, 0) << uniform;
+  const auto graded = cadtest::run_cli_json(base + " --h 5.66 --singular-size 0.25", &rc);
+  ASSERT_EQ(rc, 0) << graded;
+  EXPECT_LT(graded["free_dofs"].get<long>(), 0.6 * uniform["free_dofs"].get<long>());
+  EXPECT_LT(max_error(graded), max_error(uniform));
+  EXPECT_LT(max_error(graded), 0.0015);
+}
+
+}  // namespace
+}  // namespace hexfem
