@@ -38,6 +38,7 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
   j["flat_boundary_tets"] = r.flat_boundary_tets;
   j["dissolved_pyramids"] = r.dissolved_pyramids;
   j["flat_fallback_undone"] = r.flat_fallback_undone;
+  j["flat_retry_points"] = r.flat_retry_points;
   j["sliver_flips"] = r.sliver_flips;
   j["flipped_tets"] = r.flipped_tets;
   j["tets_from_flips"] = r.tets_from_flips;
@@ -129,6 +130,9 @@ std::string volume_report_text(const VolumeReport& r) {
   if (r.flat_fallback_undone)
     line("flat fallback   %zu elements at a flat tet's edges back to tets, flips again",
          r.flat_fallback_undone);
+  if (r.flat_retry_points)
+    line("flat retry      %zu interior points beside flat tets, the pipeline run again",
+         r.flat_retry_points);
   line("elements        %zu: hex %zu, prism %zu, pyramid %zu, tet %zu", r.stats.num_cells,
        r.stats.cells_per_kind[static_cast<int>(CellKind::Hex8)],
        r.stats.cells_per_kind[static_cast<int>(CellKind::Wedge6)],

@@ -254,12 +254,9 @@ MixedMesh finish_mesh(RecombineState& s, const SurfaceMesh& surface, const Volum
   return mesh;
 }
 
-}  // namespace
-
-MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& options,
-                      VolumeReport* report) {
-  VolumeReport local;
-  VolumeReport& r = report ? *report : local;
+// The whole volume pipeline once, with `extra` among the interior points.
+MixedMesh mesh_volume_once(const SurfaceMesh& surface_in, const VolumeOptions& options,
+                           const std::vector<Vec3>& extra, VolumeReport& r) {
   r = VolumeReport{};
 #ifdef _OPENMP
   r.threads = omp_get_max_threads();
@@ -270,7 +267,8 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   const SolidLocator locator(surface_in);
   r.stages.push_back(timer.lap("frame field + locator"));
 
-  const VolumePoints points = insert_points(surface_in, field, locator, options);
+  VolumePoints points = insert_points(surface_in, field, locator, options);
+  points.points.insert(points.points.end(), extra.begin(), extra.end());
   r.surface_vertices = surface_in.mesh.nodes.size();
   r.interior_points = points.points.size();
   r.frontal_points = points.frontal_count;
@@ -323,6 +321,33 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
   }
   r.total_seconds = timer.total_seconds();
   r.total_cpu_seconds = timer.total_cpu_seconds();
+  return mesh;
+}
+
+}  // namespace
+
+MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& options,
+                      VolumeReport* report) {
+  VolumeReport local;
+  VolumeReport& r = report ? *report : local;
+  MixedMesh mesh = mesh_volume_once(surface_in, options, {}, r);
+  // A flat tet of four co-planar surface nodes that no flip or lift removes: the whole pipeline
+  // again with a point beside each (points_beside_flat_tets), at most twice. Meshes without a
+  // flat cell never take this.
+  std::vector<Vec3> extra;
+  double seconds = 0, cpu_seconds = 0;
+  for (int retry = 0; retry < 2 && r.stats.degenerate > 0; ++retry) {
+    const std::vector<Vec3> more = points_beside_flat_tets(mesh, SolidLocator(surface_in));
+    if (more.empty()) break;
+    extra.insert(extra.end(), more.begin(), more.end());
+    seconds += r.total_seconds;
+    cpu_seconds += r.total_cpu_seconds;
+    mesh = mesh_volume_once(surface_in, options, extra, r);
+    r.flat_retry_points = extra.size();
+    r.stages.push_back({"flat-tet retries (earlier runs)", seconds, cpu_seconds});
+    r.total_seconds += seconds;
+    r.total_cpu_seconds += cpu_seconds;
+  }
   return mesh;
 }
 

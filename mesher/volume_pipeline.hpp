@@ -85,6 +85,9 @@ struct VolumeReport {
   // Elements at the edges of a flat tet turned back into tets when the first try left a flat
   // cell (the flat-cell fallback; 0 when it did not run).
   std::size_t flat_fallback_undone = 0;
+  // Interior points added beside flat tets that survived the fallback, for a second (third) run
+  // of the whole pipeline (points_beside_flat_tets; 0 when it did not run).
+  std::size_t flat_retry_points = 0;
   std::size_t hex_candidates = 0, prism_candidates = 0, pyramid_candidates = 0;
   SwapReport hex_swaps;  // --hex-selection swap: what the swaps did (zeros without)
   std::size_t boundary_triangles = 0, boundary_quads = 0;

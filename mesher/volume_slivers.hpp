@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "mesher/recombine_state.hpp"
+#include "mesher/solid_locator.hpp"
 
 namespace hexfem {
 
@@ -66,5 +67,14 @@ SliverFlips flip_slivers(RecombineState& s);
 // at or above min(its own, 0.3), a pyramid min(its own, 0.05): the recombination's bounds.
 // Returns how many cells were improved.
 std::size_t lift_slivers(MixedMesh& mesh, std::size_t num_fixed_nodes, double below);
+
+// For each flat tet left in a finished mesh (min scaled Jacobian below
+// kDegenerateScaledJacobian), typically four co-planar surface nodes that neither the flips nor
+// the lift can change (four co-planar surface points: a rectangle of two rows of a cylinder's
+// points, a trapezoid between a hole's wall and its floor at the same two angles), a point off its
+// plane, inside the solid: from its centroid towards the farthest corner of the cells on its faces,
+// 0.3 of the way. With that point among the interior points the tetrahedralization has no such tet
+// there.
+std::vector<Vec3> points_beside_flat_tets(const MixedMesh& mesh, const SolidLocator& locator);
 
 }  // namespace hexfem

@@ -110,5 +110,25 @@ TEST(SingularEdges, GradedTowardsTheClampARoundBarNeedsFewerDofs) {
   EXPECT_LT(max_error(graded), 0.0015);
 }
 
+// The clamp face graded to 0.15 h at h = 2: two rows of the cylinder's points at the same angles
+// make a flat tet of four surface nodes (a planar rectangle) that no flip or lift removes, and the
+// mesher refused ("1 flat cells"). Now the pipeline runs again with an interior point beside it
+// (points_beside_flat_tets): a valid mesh of the CAD volume (the mesher writes none with a flat
+// or inverted cell), the same bytes on every run.
+TEST(SingularEdges, AFlatTetOfFourSurfaceNodesIsMeshedAgainWithAPointBeside) {
+  const std::string args =
+      "mesh " + data("cylinder.stp") + " --h 2 --size-at face:3=0.15h --json -o ";
+  int rc = 0;
+  const auto j = cadtest::run_cli_json(args + cadtest::work("flat1.msh").string(), &rc);
+  ASSERT_EQ(rc, 0) << j;
+  EXPECT_GE(j["flat_retry_points"].get<int>(), 1);
+  EXPECT_EQ(j["inverted"].get<int>(), 0);
+  EXPECT_LT(std::abs(j["volume_error"].get<double>()), 0.01);
+  cadtest::run_cli_json(args + cadtest::work("flat2.msh").string(), &rc);
+  ASSERT_EQ(rc, 0);
+  EXPECT_EQ(cadtest::file_bytes(cadtest::work("flat1.msh")),
+            cadtest::file_bytes(cadtest::work("flat2.msh")));
+}
+
 }  // namespace
 }  // namespace hexfem
