@@ -15,6 +15,7 @@
 #include "mesher/size_field.hpp"
 #include "mesher/surface_check.hpp"
 #include "mesher/surface_pipeline.hpp"
+#include "mesher/vec3.hpp"
 
 namespace hexfem {
 namespace {
@@ -289,6 +290,34 @@ TEST(SurfaceMesh, CrossFieldFollowsTheBoundary) {
     }
     EXPECT_TRUE(field.frame(cad.project(f, c)).ok);
   }
+}
+
+// 40mm_capot's embossed letters are outlined by chains of straight edges of 0.13-0.2 mm. At
+// h = 10.98 (the part's diagonal / 20) each is a micro edge (under 0.02 h = 0.22 mm), and the
+// chains used to collapse into one node each: six edges, 1 mm of outline, became one point and
+// the letter's face folded over its neighbour (self-intersecting surface, the volume refused).
+// Now every CAD vertex's node lies within the micro limit of the vertex, and the surface is
+// valid.
+TEST(SurfaceMesh, AChainOfMicroEdgesDoesNotCollapseIntoOneNode) {
+  const CadModel cad = CadModel::read(data("40mm_capot.stp"));
+  SizeOptions so;
+  so.h = 10.98;
+  const EdgePoints edges = discretise_edges(cad, SizeField(cad, so));
+  std::size_t merged = 0;
+  for (int e = 1; e <= cad.num_edges(); ++e) {
+    const auto& nodes = edges.node[static_cast<std::size_t>(e - 1)];
+    const auto ends = cad.edge_vertices(e);
+    for (int k = 0; k < 2; ++k) {
+      const int node = k == 0 ? nodes.front() : nodes.back();
+      merged += node != ends[k] - 1;
+      const Vec3 d = v3::sub(edges.xyz[static_cast<std::size_t>(node)], cad.vertex_point(ends[k]));
+      EXPECT_LT(v3::norm(d), 0.02 * so.h) << "edge " << e << " vertex " << ends[k];
+    }
+  }
+  EXPECT_GT(merged, 0u);  // micro edges are still collapsed, one at a time
+  SurfaceOptions opt;
+  opt.h = 10.98;
+  expect_valid(mesh_surface(cad, opt), cad, "40mm_capot at h = 10.98");
 }
 
 TEST(SurfaceMesh, SizeOptions) {
