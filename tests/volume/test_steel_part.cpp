@@ -160,6 +160,26 @@ TEST(Propeller, CurvatureBoundIsDoubledUntilTheMeshIsThePart) {
   EXPECT_NE(r.warnings[0].find("-18.0 %"), std::string::npos) << r.warnings[0];
 }
 
+// The same part at h = diagonal / 20 with modal's order-2 curvature default (12 per turn, never
+// finer than h/2): -17.5 % at every bound, since the floor keeps the blades' edges coarse, while
+// no bound at all gives -3.7 %; `modal --order 2` refused it. The bound now goes on without the
+// floor before the part is refused (48 per turn: -1.8 %).
+TEST(Propeller, TheOrder2CurvatureFloorIsDroppedWhenItKeepsTheMeshOff) {
+  MeshOptions o;
+  o.surface.h = 67.9339;
+  o.surface.curvature = 12;
+  o.surface.curvature_min_ratio = 0.5;
+  MeshReport r;
+  const MixedMesh m = mesh_file(std::string(HEXFEM_TEST_DATA) + "/Propeller.rle", o, &r);
+  const CadModel cad = CadModel::read(std::string(HEXFEM_TEST_DATA) + "/Propeller.rle");
+  const MeshStats st = compute_stats(m);
+  EXPECT_EQ(st.degenerate + st.inverted, 0u);
+  EXPECT_TRUE(st.watertight);
+  EXPECT_LT(std::abs(st.volume - cad.volume()) / cad.volume(), 0.05);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("no floor at h/2"), std::string::npos) << r.warnings[0];
+}
+
 // The AS1 assembly's bodies touch (a nut on its rod): one conforming mesh cannot hold them, and
 // the refusal says so in the CAD's terms instead of reporting a TetGen failure.
 TEST(Assembly, TouchingSolidsAreRefusedByName) {
