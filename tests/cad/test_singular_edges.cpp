@@ -130,5 +130,20 @@ TEST(SingularEdges, AFlatTetOfFourSurfaceNodesIsMeshedAgainWithAPointBeside) {
             cadtest::file_bytes(cadtest::work("flat2.msh")));
 }
 
+// NIST CTC 01 at h = 7.75 (its diagonal / 120): one flat tet, then, with a point beside it,
+// three elsewhere (TetGen orders co-spherical points differently with one point more), then two,
+// then none: the points accumulate over up to four runs.
+TEST(SingularEdges, FlatTetsThatMoveElsewhereAreRetriedUntilNoneIsLeft) {
+  int rc = 0;
+  const auto j =
+      cadtest::run_cli_json("mesh " + data("0083_nist_ctc_01_asme1_ap242_colored.stp") +
+                                " --h 7.75045 --json -o " + cadtest::work("nist120.msh").string(),
+                            &rc);
+  ASSERT_EQ(rc, 0) << j;
+  EXPECT_GE(j["flat_retry_points"].get<int>(), 2);
+  EXPECT_EQ(j["inverted"].get<int>(), 0);
+  EXPECT_LT(std::abs(j["volume_error"].get<double>()), 0.01);
+}
+
 }  // namespace
 }  // namespace hexfem
