@@ -103,6 +103,8 @@ int run(const ConvergeArgs& a) {
   const char* origin = a.modal.curvature < 0 ? " (the order-2 default, never finer than h/2; "
                                                "--curvature 0 turns it off)"
                                              : "";
+  const std::string graded = singular_edges_graded(a.modal, cad).note();
+  if (!graded.empty()) std::printf("meshes   %s\n", graded.c_str());
   if (!curvature.empty() && same_bound && curvature.front() > 0)
     std::printf("meshes   curvature bound %d elements per turn on curved edges and faces%s\n",
                 curvature.front(), origin);

@@ -146,9 +146,11 @@ int run(const Args& a) {
   bool read_order2 = false;  // a second-order mesh file: its own mid-edge nodes, none made
   ModalResult r;
   PartModalResult part;
+  GradedEdges graded;  // --singular-size, for the report
   if (cad_input) {
     const CadModel cad = CadModel::read(a.mesh, CadReadOptions{a.modal.glue});
     const MeshOptions mesh_options = cad_mesh_options(a.modal, a.h, cad);
+    graded = singular_edges_graded(a.modal, cad);
     part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
     mesh = std::move(part.mesh);
     r = std::move(part.modal);
@@ -209,6 +211,10 @@ int run(const Args& a) {
     if (cad_input) {
       j["mesh"]["h"] = a.h;
       j["mesh"]["curvature_bound"] = part.mesh_report.surface.curvature_used;
+      if (graded.fraction > 0)
+        j["mesh"]["singular_edges"] = {{"fraction_of_h", graded.fraction},
+                                       {"reentrant", graded.reentrant},
+                                       {"clamp_rim", graded.rim}};
       j["mesh"]["report"] = part.mesh_report;  // the mesher's report, as `hexfem mesh --json`
       j["mesh"]["mesh_seconds"] = part.mesh_seconds;
       j["mesh"]["peak_memory_bytes"] = part.mesh_peak_bytes;
@@ -252,6 +258,7 @@ int run(const Args& a) {
         part.mesh_report.stats.nc_percent, part.mesh_report.stats.inverted,
         part.mesh_report.volume_error, part.mesh_seconds, part.mesh_peak_bytes / 1e9,
         a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
+  if (graded.fraction > 0) std::printf("grading   %s\n", graded.note().c_str());
   std::printf("elements  %s\n", element_formulations(mesh.order, opt.incompatible_hex).c_str());
   if (read_order2)
     std::printf("order 2   the mid-edge nodes as read from %s\n", a.mesh.c_str());

@@ -1,6 +1,7 @@
 #include "app/modal_cli.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "app/cli_checks.hpp"
 #include "app/part_modal.hpp"
@@ -86,6 +87,28 @@ std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::s
   return faces;
 }
 
+std::string GradedEdges::note() const {
+  if (fraction <= 0) return "";
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                "graded to %g h at singular edges: %zu re-entrant, %zu on the clamped faces' rim",
+                fraction, reentrant.size(), rim.size());
+  return buf;
+}
+
+GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad) {
+  if (o.singular_size != -1 && !(o.singular_size >= 0 && o.singular_size <= 1))
+    throw Error("--singular-size must be a fraction of --h in [0, 1] (0 = off), got " +
+                std::to_string(o.singular_size));
+  GradedEdges g;
+  g.fraction = std::max(0.0, o.singular_size);
+  if (g.fraction > 0) {
+    g.reentrant = reentrant_edges(cad);
+    g.rim = rim_edges(cad, clamped_cad_faces(cad, o.fix));
+  }
+  return g;
+}
+
 MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const CadModel& cad) {
   if (o.curvature != -1 && (o.curvature < 0 || (o.curvature > 0 && o.curvature < 3)))
     throw Error("--curvature must be 0 (off) or at least 3 elements per 2*pi (got " +
@@ -99,18 +122,12 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const CadModel&
     m.surface.curvature_min_ratio = kOrder2CurvatureMinRatio;
   }
   parse_size_at(o.size_at, h, m.surface.vertex_sizes, m.surface.face_sizes, m.surface.edge_sizes);
-  if (o.singular_size != -1 && !(o.singular_size >= 0 && o.singular_size <= 1))
-    throw Error("--singular-size must be a fraction of --h in [0, 1] (0 = off), got " +
-                std::to_string(o.singular_size));
-  const double singular = std::max(0.0, o.singular_size);
-  if (singular > 0) {
-    std::vector<int> edges = reentrant_edges(cad);
-    const std::vector<int> rim = rim_edges(cad, clamped_cad_faces(cad, o.fix));
-    edges.insert(edges.end(), rim.begin(), rim.end());
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    for (int e : edges) m.surface.edge_sizes.emplace_back(e, singular * h);
-  }
+  const GradedEdges graded = singular_edges_graded(o, cad);
+  std::vector<int> edges = graded.reentrant;
+  edges.insert(edges.end(), graded.rim.begin(), graded.rim.end());
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  for (int e : edges) m.surface.edge_sizes.emplace_back(e, graded.fraction * h);
   m.volume.conformal = o.conformal;
   m.volume.relax_points = std::max(0, o.relax_points);
   m.surface.align_opposite = std::max(0.0, o.align_opposite);

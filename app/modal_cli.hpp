@@ -68,6 +68,15 @@ inline constexpr double kOrder2CurvatureMinRatio = 0.5;
 // mesh groups, not CAD faces: none.
 std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::string>& fix);
 
+// The edges --singular-size grades (none when it is off): re-entrant edges and the rim of the
+// clamped faces, each list sorted; `note` says so in one phrase for the reports ("" when off).
+struct GradedEdges {
+  std::vector<int> reentrant, rim;
+  double fraction = 0;
+  std::string note() const;
+};
+GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad);
+
 // The mesh options of a CAD part at size h from the shared options: --size-at, --conformal,
 // --relax-points, --curvature and --singular-size (or the order's defaults). Throws
 // hexfem::Error on a bad --size-at, --curvature or --singular-size.

@@ -105,6 +105,10 @@ TEST(SingularEdges, GradedTowardsTheClampARoundBarNeedsFewerDofs) {
   ASSERT_EQ(rc, 0) << uniform;
   const auto graded = cadtest::run_cli_json(base + " --h 5.66 --singular-size 0.25", &rc);
   ASSERT_EQ(rc, 0) << graded;
+  // The clamp face is a disk: its rim is its one circle; a cylinder has no re-entrant edge.
+  EXPECT_EQ(graded["mesh"]["singular_edges"]["clamp_rim"].size(), 1u);
+  EXPECT_TRUE(graded["mesh"]["singular_edges"]["reentrant"].empty());
+  EXPECT_FALSE(uniform["mesh"].contains("singular_edges"));
   EXPECT_LT(graded["free_dofs"].get<long>(), 0.6 * uniform["free_dofs"].get<long>());
   EXPECT_LT(max_error(graded), max_error(uniform));
   EXPECT_LT(max_error(graded), 0.0015);
