@@ -368,7 +368,8 @@ void triangulate_faces(const CadModel& cad, const EdgePoints& edges, FaceWork& w
   parallel_for(static_cast<int>(w.size()), [&](int i) {
     const auto k = static_cast<std::size_t>(i);
     if (!w.collapsed[k])
-      w.tris[k] = triangulate_face(w.faces[k], w.boundary[k], w.pts[k], edges, w.field[k]->scale());
+      w.tris[k] =
+          triangulate_face(w.faces[k], w.boundary[k], w.pts[k], edges, w.field[k]->scale(), &cad);
   });
   for (int round = 0; round < 4; ++round) {
     const auto split = shared_diagonals(w.boundary, w.pts, w.tris);
@@ -382,7 +383,8 @@ void triangulate_faces(const CadModel& cad, const EdgePoints& edges, FaceWork& w
     }
     if (redo.empty()) break;
     for (std::size_t k : redo)
-      w.tris[k] = triangulate_face(w.faces[k], w.boundary[k], w.pts[k], edges, w.field[k]->scale());
+      w.tris[k] =
+          triangulate_face(w.faces[k], w.boundary[k], w.pts[k], edges, w.field[k]->scale(), &cad);
   }
 }
 

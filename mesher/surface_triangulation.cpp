@@ -215,10 +215,45 @@ void remove_flat_points(CDT& cdt, const FacePointSet& P) {
   }
 }
 
+// Interior points of triangles whose normal points against the surface's (du x dv at the
+// triangle's parametric centroid; the triangles are counter-clockwise in the parameter plane)
+// are removed, a few rounds, and the domain marked again. Such a fold comes from a trimmed
+// domain that reaches past the neighbouring face in space (freecad_hole_puzzle_counterbore at
+// h = 0.216: a ball's pole 0.005 mm from the edge it shares with its rod, packed points 0.007 mm
+// beyond that edge, triangles crossing the rod's).
+void remove_folded_points(CDT& cdt, const FacePointSet& P, const CadModel& cad, int f, Vec2 scale) {
+  for (int round = 0; round < 3; ++round) {
+    std::vector<CDT::Vertex_handle> folded;
+    for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
+      if (!in_domain(cdt, fh)) continue;
+      const Vec3 &a = P.xyz(fh->vertex(0)->info().id), &b = P.xyz(fh->vertex(1)->info().id),
+                 &c = P.xyz(fh->vertex(2)->info().id);
+      const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      const Vec3 n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+      Vec2 uv{0, 0};
+      for (int i = 0; i < 3; ++i) {
+        uv[0] += fh->vertex(i)->point().x() / (3 * scale[0]);
+        uv[1] += fh->vertex(i)->point().y() / (3 * scale[1]);
+      }
+      const SurfaceDerivs d = cad.eval(f, uv);
+      const Vec3 s{d.du[1] * d.dv[2] - d.du[2] * d.dv[1], d.du[2] * d.dv[0] - d.du[0] * d.dv[2],
+                   d.du[0] * d.dv[1] - d.du[1] * d.dv[0]};
+      if (!(n[0] * s[0] + n[1] * s[1] + n[2] * s[2] < 0)) continue;
+      for (int i = 0; i < 3; ++i)
+        if (fh->vertex(i)->info().id >= P.nb) folded.push_back(fh->vertex(i));
+    }
+    if (folded.empty()) return;
+    std::sort(folded.begin(), folded.end());
+    folded.erase(std::unique(folded.begin(), folded.end()), folded.end());
+    for (const auto& v : folded) cdt.remove(v);
+    mark_nesting_levels(cdt);
+  }
+}
+
 }  // namespace
 
 FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& in,
-                               const EdgePoints& points, Vec2 scale) {
+                               const EdgePoints& points, Vec2 scale, const CadModel* cad) {
   const FacePointSet P{b, in, points, static_cast<int>(b.uv.size())};
   const int nb = P.nb;
   CDT cdt;
@@ -231,6 +266,7 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
   mark_nesting_levels(cdt);
   out.flips = flip_toward_delaunay_3d(cdt, P);
   remove_flat_points(cdt, P);
+  if (cad) remove_folded_points(cdt, P, *cad, f, scale);
   out.interior_used.assign(in.uv.size(), false);
   for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
     if (!in_domain(cdt, fh)) continue;

@@ -26,8 +26,10 @@ struct FaceTriangles {
   std::size_t flips = 0;
 };
 
-// Throws hexfem::Error when the boundary cannot be recovered as triangle edges.
+// Throws hexfem::Error when the boundary cannot be recovered as triangle edges. With the CAD
+// model, an interior point of a triangle that faces against the surface (a fold: the point lies
+// beyond the face's edge in space although inside its trimmed domain) is left out.
 FaceTriangles triangulate_face(int f, const FaceBoundary& boundary, const FacePoints& interior,
-                               const EdgePoints& points, Vec2 scale);
+                               const EdgePoints& points, Vec2 scale, const CadModel* cad = nullptr);
 
 }  // namespace hexfem

@@ -320,6 +320,26 @@ TEST(SurfaceMesh, AChainOfMicroEdgesDoesNotCollapseIntoOneNode) {
   expect_valid(mesh_surface(cad, opt), cad, "40mm_capot at h = 10.98");
 }
 
+// freecad_hole_puzzle_counterbore at h = 0.216 (its diagonal / 120): a rod of 0.508 mm ends in
+// a ball whose pole lies 0.005 mm from the edge they share; the ball's trimmed domain takes
+// packed points 0.007 mm beyond that edge, and their triangles folded into the rod's (refused as
+// self-intersecting at h 0.2-0.22). Triangles facing against the surface now lose their interior
+// point, and the surface is closed, outward and free of self-intersections (two triangles at
+// the pole keep an angle under 5 degrees, so expect_valid's angle bound is not asked here).
+TEST(SurfaceMesh, AFoldedTriangleLosesItsInteriorPoint) {
+  const CadModel cad = CadModel::read(data("freecad_hole_puzzle_counterbore.brep"));
+  for (double h : {0.216354, 0.2}) {
+    SurfaceOptions opt;
+    opt.h = h;
+    opt.repair = false;  // the first mesh itself, not a retry's
+    const auto checks = check_solids(mesh_surface(cad, opt));
+    ASSERT_EQ(checks.size(), 1u);
+    EXPECT_TRUE(checks[0].ok()) << "h = " << h;
+    EXPECT_TRUE(checks[0].self_intersection_tested);
+    EXPECT_FALSE(checks[0].self_intersects) << "h = " << h;
+  }
+}
+
 TEST(SurfaceMesh, SizeOptions) {
   const CadModel cad = CadModel::read(data("cylinder.stp"));
   // Curvature bound: 24 elements per turn on the circles even with a size larger than them.
