@@ -51,8 +51,9 @@ int run(const ConvergeArgs& a) {
 
   std::vector<std::pair<std::string, std::string>> solvers;  // per row: path taken, why
   std::vector<int> curvature;  // per row: the mesh's curvature bound (0 = none)
+  const GradedEdges graded = singular_edges_graded(a.modal, cad);
   for (std::size_t i = 0; i < a.sizes.size(); ++i) {
-    const MeshOptions mesh = cad_mesh_options(a.modal, a.sizes[i], cad);
+    const MeshOptions mesh = cad_mesh_options(a.modal, a.sizes[i], graded);
     std::fprintf(stderr, "converge: run %zu/%zu, h = %g ...\n", i + 1, a.sizes.size(), a.sizes[i]);
     const PartModalResult r = run_part_modal(cad, mesh, modal, a.modal.force, a.modal.order);
     ConvergenceRow row;
@@ -103,8 +104,7 @@ int run(const ConvergeArgs& a) {
   const char* origin = a.modal.curvature < 0 ? " (the order-2 default, never finer than h/2; "
                                                "--curvature 0 turns it off)"
                                              : "";
-  const std::string graded = singular_edges_graded(a.modal, cad).note();
-  if (!graded.empty()) std::printf("meshes   %s\n", graded.c_str());
+  if (graded.fraction > 0) std::printf("meshes   %s\n", graded.note().c_str());
   if (!curvature.empty() && same_bound && curvature.front() > 0)
     std::printf("meshes   curvature bound %d elements per turn on curved edges and faces%s\n",
                 curvature.front(), origin);

@@ -1,7 +1,6 @@
 // `hexfem mesh part.step --h 1.0 [--dim 3|2] -o mesh.msh|.vtu|.inp [--json] [--force]
 //  [--curvature N] [--size-at vertex|edge|face:ID=S]...`: the hex-dominant mesh of a CAD part
-//  (--dim 3,
-// the default; volume_mesh_cli.cpp) or its surface mesh (--dim 2).
+// (--dim 3, the default; volume_mesh_cli.cpp) or its surface mesh (--dim 2).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>

@@ -149,8 +149,8 @@ int run(const Args& a) {
   GradedEdges graded;  // --singular-size, for the report
   if (cad_input) {
     const CadModel cad = CadModel::read(a.mesh, CadReadOptions{a.modal.glue});
-    const MeshOptions mesh_options = cad_mesh_options(a.modal, a.h, cad);
     graded = singular_edges_graded(a.modal, cad);
+    const MeshOptions mesh_options = cad_mesh_options(a.modal, a.h, graded);
     part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
     mesh = std::move(part.mesh);
     r = std::move(part.modal);

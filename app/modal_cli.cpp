@@ -109,7 +109,7 @@ GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad)
   return g;
 }
 
-MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const CadModel& cad) {
+MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const GradedEdges& graded) {
   if (o.curvature != -1 && (o.curvature < 0 || (o.curvature > 0 && o.curvature < 3)))
     throw Error("--curvature must be 0 (off) or at least 3 elements per 2*pi (got " +
                 std::to_string(o.curvature) + ")");
@@ -122,7 +122,6 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const CadModel&
     m.surface.curvature_min_ratio = kOrder2CurvatureMinRatio;
   }
   parse_size_at(o.size_at, h, m.surface.vertex_sizes, m.surface.face_sizes, m.surface.edge_sizes);
-  const GradedEdges graded = singular_edges_graded(o, cad);
   std::vector<int> edges = graded.reentrant;
   edges.insert(edges.end(), graded.rim.begin(), graded.rim.end());
   std::sort(edges.begin(), edges.end());

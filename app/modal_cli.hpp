@@ -70,6 +70,7 @@ std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::s
 
 // The edges --singular-size grades (none when it is off): re-entrant edges and the rim of the
 // clamped faces, each list sorted; `note` says so in one phrase for the reports ("" when off).
+// Throws hexfem::Error on a --singular-size outside [0, 1].
 struct GradedEdges {
   std::vector<int> reentrant, rim;
   double fraction = 0;
@@ -78,9 +79,10 @@ struct GradedEdges {
 GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad);
 
 // The mesh options of a CAD part at size h from the shared options: --size-at, --conformal,
-// --relax-points, --curvature and --singular-size (or the order's defaults). Throws
-// hexfem::Error on a bad --size-at, --curvature or --singular-size.
-MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const CadModel& cad);
+// --relax-points, --curvature (or the order's default) and the edges --singular-size grades
+// (singular_edges_graded, found once for every h). Throws hexfem::Error on a bad --size-at or
+// --curvature.
+MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const GradedEdges& graded);
 
 // --hex8 chooses the order-1 hexahedron; given for an order-2 solve it would be ignored in
 // silence, so it is an error naming --order 1. Throws hexfem::Error.

@@ -5,13 +5,11 @@
 #include <numbers>
 #include <optional>
 
+#include "mesher/vec3.hpp"
+
 namespace hexfem {
 
 namespace {
-
-double dot(const Vec3& a, const Vec3& b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 // Unit direction in face f, at parameter t of its coedge c, perpendicular to the edge and
 // pointing into the face; none where the face's trimmed domain does not tell (both or neither
@@ -23,16 +21,15 @@ std::optional<Vec3> into_face(const CadModel& cad, int f, int c, double t, doubl
   const SurfaceDerivs d = cad.eval(f, uv);
   // The perpendicular in the parameter plane, scaled to move `step` in space.
   const Vec2 perp{-tau[1], tau[0]};
-  const Vec3 w{d.du[0] * perp[0] + d.dv[0] * perp[1], d.du[1] * perp[0] + d.dv[1] * perp[1],
-               d.du[2] * perp[0] + d.dv[2] * perp[1]};
-  const double len = std::sqrt(dot(w, w));
+  const Vec3 w = v3::add(v3::scaled(d.du, perp[0]), v3::scaled(d.dv, perp[1]));
+  const double len = v3::norm(w);
   if (!(len > 0)) return std::nullopt;
   const double s = step / len;
   const bool plus = cad.contains(f, {uv[0] + s * perp[0], uv[1] + s * perp[1]});
   const bool minus = cad.contains(f, {uv[0] - s * perp[0], uv[1] - s * perp[1]});
   if (plus == minus) return std::nullopt;
   const double sign = plus ? 1.0 : -1.0;
-  return Vec3{sign * w[0] / len, sign * w[1] / len, sign * w[2] / len};
+  return v3::scaled(w, sign / len);
 }
 
 int coedge_index(const CadModel& cad, int f, int e) {
@@ -72,7 +69,7 @@ std::vector<int> reentrant_edges(const CadModel& cad, double min_turn_deg) {
       const Vec3 n0 = cad.normal(faces[0], cad.coedge_uv(faces[0], c0, t));
       const Vec3 n1 = cad.normal(faces[1], cad.coedge_uv(faces[1], c1, t));
       // Each face turns towards the other's outside: the solid wraps round the edge.
-      if (!(dot(*d0, n1) > min_sin && dot(*d1, n0) > min_sin)) {
+      if (!(v3::dot(*d0, n1) > min_sin && v3::dot(*d1, n0) > min_sin)) {
         concave = false;
         break;
       }

@@ -14,6 +14,7 @@
 
 #include "mesher/cdt_domain.hpp"
 #include "mesher/mesh/error.hpp"
+#include "mesher/vec3.hpp"
 
 namespace hexfem {
 
@@ -226,19 +227,16 @@ void remove_folded_points(CDT& cdt, const FacePointSet& P, const CadModel& cad, 
     std::vector<CDT::Vertex_handle> folded;
     for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
       if (!in_domain(cdt, fh)) continue;
-      const Vec3 &a = P.xyz(fh->vertex(0)->info().id), &b = P.xyz(fh->vertex(1)->info().id),
-                 &c = P.xyz(fh->vertex(2)->info().id);
-      const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-      const Vec3 n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+      const Vec3& a = P.xyz(fh->vertex(0)->info().id);
+      const Vec3 n = v3::cross(v3::sub(P.xyz(fh->vertex(1)->info().id), a),
+                               v3::sub(P.xyz(fh->vertex(2)->info().id), a));
       Vec2 uv{0, 0};
       for (int i = 0; i < 3; ++i) {
         uv[0] += fh->vertex(i)->point().x() / (3 * scale[0]);
         uv[1] += fh->vertex(i)->point().y() / (3 * scale[1]);
       }
       const SurfaceDerivs d = cad.eval(f, uv);
-      const Vec3 s{d.du[1] * d.dv[2] - d.du[2] * d.dv[1], d.du[2] * d.dv[0] - d.du[0] * d.dv[2],
-                   d.du[0] * d.dv[1] - d.du[1] * d.dv[0]};
-      if (!(n[0] * s[0] + n[1] * s[1] + n[2] * s[2] < 0)) continue;
+      if (!(v3::dot(n, v3::cross(d.du, d.dv)) < 0)) continue;
       for (int i = 0; i < 3; ++i)
         if (fh->vertex(i)->info().id >= P.nb) folded.push_back(fh->vertex(i));
     }

@@ -624,12 +624,10 @@ std::size_t lift_slivers(MixedMesh& mesh, std::size_t num_fixed_nodes, double be
 std::vector<Vec3> points_beside_flat_tets(const MixedMesh& mesh, const SolidLocator& locator) {
   const auto& X = mesh.nodes;
   std::vector<std::size_t> flat;
-  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
-    if (mesh.cell_kind[c] != CellKind::Tet4) continue;
-    Vec3 x[4];
-    for (int i = 0; i < 4; ++i) x[i] = X[mesh.cell(c)[i]];
-    if (min_scaled_jacobian(CellKind::Tet4, x) < kDegenerateScaledJacobian) flat.push_back(c);
-  }
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c)
+    if (mesh.cell_kind[c] == CellKind::Tet4 &&
+        cell_min_scaled_jacobian(mesh, c) < kDegenerateScaledJacobian)
+      flat.push_back(c);
   std::vector<Vec3> out;
   if (flat.empty()) return out;
   // The cells at each node (only the flat tets' nodes are asked).
@@ -644,18 +642,15 @@ std::vector<Vec3> points_beside_flat_tets(const MixedMesh& mesh, const SolidLoca
   for (std::size_t c : flat) {
     const std::int32_t* T = mesh.cell(c);
     Vec3 g{0, 0, 0};
-    for (int i = 0; i < 4; ++i)
-      for (int k = 0; k < 3; ++k) g[k] += 0.25 * X[T[i]][k];
+    for (int i = 0; i < 4; ++i) g = v3::add(g, v3::scaled(X[T[i]], 0.25));
     // The plane: the normal of the largest face.
     Vec3 n{0, 0, 0};
-    double best = 0;
+    double best = 0;  // its squared length
     for (int skip = 0; skip < 4; ++skip) {
-      const Vec3 &a = X[T[(skip + 1) % 4]], &b = X[T[(skip + 2) % 4]], &d = X[T[(skip + 3) % 4]];
-      const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-      const Vec3 w{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-      const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-      if (ww > best) {
-        best = ww;
+      const Vec3& a = X[T[(skip + 1) % 4]];
+      const Vec3 w = v3::cross(v3::sub(X[T[(skip + 2) % 4]], a), v3::sub(X[T[(skip + 3) % 4]], a));
+      if (v3::dot(w, w) > best) {
+        best = v3::dot(w, w);
         n = w;
       }
     }
@@ -673,13 +668,12 @@ std::vector<Vec3> points_beside_flat_tets(const MixedMesh& mesh, const SolidLoca
           shared += O[k] == T[0] || O[k] == T[1] || O[k] == T[2] || O[k] == T[3];
         if (shared < 3) continue;
         for (int k = 0; k < no; ++k) {
-          const double d =
-              (X[O[k]][0] - g[0]) * n[0] + (X[O[k]][1] - g[1]) * n[1] + (X[O[k]][2] - g[2]) * n[2];
+          const double d = v3::dot(v3::sub(X[O[k]], g), n);
           if (std::abs(d) > std::abs(far)) far = d;
         }
       }
     if (far == 0) continue;
-    const Vec3 p{g[0] + 0.3 * far * n[0], g[1] + 0.3 * far * n[1], g[2] + 0.3 * far * n[2]};
+    const Vec3 p = v3::add(g, v3::scaled(n, 0.3 * far));
     if (locator.inside(mesh.cell_solid[c], p)) out.push_back(p);
   }
   return out;
