@@ -198,6 +198,7 @@ void to_json(nlohmann::json& j, const MeshReport& r) {
   j["mesh_volume"] = r.mesh_volume;
   j["volume_error"] = r.volume_error;
   j["warnings"] = r.warnings;
+  j["refined_faces"] = r.refined_faces;
   j["surface_points"] = r.surface.points;
   j["surface_triangles"] = r.surface.triangles;
   nlohmann::json stages = nlohmann::json::array();

@@ -1,5 +1,6 @@
 #include "mesher/pipeline.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/mesh/progress.hpp"
+#include "mesher/mesh/quality.hpp"
 
 namespace hexfem {
 
@@ -26,6 +28,36 @@ constexpr double kLargeSizeDivisor = 8;
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+// How often the CAD faces under flat or inverted cells are meshed again, each time at half the
+// size before (h/2, h/4).
+constexpr int kLocalRefinements = 2;
+
+// The CAD faces of the boundary faces that touch a node of a flat or inverted cell, sorted.
+std::vector<int> faces_under_bad_cells(const MixedMesh& mesh) {
+  std::vector<char> bad_node(mesh.nodes.size(), 0);
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c)
+    if (cell_is_inverted(mesh, c) || cell_is_degenerate(mesh, c))
+      for (int i = 0; i < num_nodes(mesh.cell_kind[c]); ++i) bad_node[mesh.cell(c)[i]] = 1;
+  std::vector<int> faces;
+  for (std::size_t f = 0; f < mesh.num_bfaces(); ++f) {
+    bool touches = false;
+    for (int i = 0; i < (mesh.bface_is_quad(f) ? 4 : 3); ++i)
+      touches = touches || bad_node[mesh.bface(f)[i]];
+    if (touches && mesh.bface_cad_face[f] >= 0) faces.push_back(mesh.bface_cad_face[f]);
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+// Thrown by mesh_once for an invalid volume mesh: the message, and the CAD faces under the flat
+// or inverted cells (a size there finer than h may remove them).
+struct InvalidMesh : Error {
+  InvalidMesh(const std::string& what, std::vector<int> under_bad_cells)
+      : Error(what), faces(std::move(under_bad_cells)) {}
+  std::vector<int> faces;
+};
+
 // Surface and volume mesh at the given options, checked valid; fills the report's mesh figures.
 MixedMesh mesh_once(const CadModel& cad, const MeshOptions& options, MeshReport& r) {
   show_progress("meshing surfaces...");
@@ -39,14 +71,63 @@ MixedMesh mesh_once(const CadModel& cad, const MeshOptions& options, MeshReport&
   // give wrong frequencies downstream without any sign of it.
   r.stats = r.volume.stats;
   const MeshStats& stats = r.stats;
-  if (stats.inverted > 0 || stats.degenerate > 0 || !stats.watertight)
-    throw Error("the volume mesher produced an invalid mesh (" + std::to_string(stats.inverted) +
-                " inverted, " + std::to_string(stats.degenerate) + " flat cells, " +
-                std::to_string(stats.open_boundary_edges) +
-                " open boundary edges); nothing written - try another --h");
+  if (stats.inverted > 0 || stats.degenerate > 0 || !stats.watertight) {
+    const std::string what = "the volume mesher produced an invalid mesh (" +
+                             std::to_string(stats.inverted) + " inverted, " +
+                             std::to_string(stats.degenerate) + " flat cells, " +
+                             std::to_string(stats.open_boundary_edges) +
+                             " open boundary edges); nothing written - try another --h";
+    if (!stats.watertight) throw Error(what);
+    throw InvalidMesh(what, faces_under_bad_cells(mesh));
+  }
   r.mesh_volume = stats.volume;
   r.volume_error = r.cad_volume > 0 ? (r.mesh_volume - r.cad_volume) / r.cad_volume : 0;
   return mesh;
+}
+
+// mesh_once; where its mesh has flat or inverted cells, the CAD faces under them are meshed
+// again at h/2, then h/4 (917_fusee at h = 28.7: a B-spline face meets its planar neighbour at
+// a knife edge, and at h its chord triangle lies on the neighbour's two triangles, a pocket of
+// zero thickness that TetGen fills with two flat tets). The user is told which faces.
+MixedMesh mesh_once_or_refined(const CadModel& cad, const MeshOptions& options, MeshReport& r) {
+  try {
+    return mesh_once(cad, options, r);
+  } catch (const InvalidMesh& bad) {
+    if (bad.faces.empty() || !options.surface.repair) throw;
+    std::vector<int> faces = bad.faces;
+    const double h = options.surface.h;
+    for (int level = 1; level <= kLocalRefinements; ++level) {
+      MeshOptions finer = options;
+      const double size = h / (1 << level);
+      for (int f : faces) finer.surface.face_sizes.emplace_back(f, size);
+      MeshReport again;
+      again.file_unit = r.file_unit;
+      again.cad_volume = r.cad_volume;
+      again.cad_seconds = r.cad_seconds;
+      try {
+        MixedMesh mesh = mesh_once(cad, finer, again);
+        std::string list;
+        for (int f : faces) list += (list.empty() ? "" : ", ") + std::to_string(f);
+        char buf[160];
+        std::snprintf(buf, sizeof buf, " meshed again at h/%d: at h = %g they held flat cells",
+                      1 << level, h);
+        again.warnings.push_back((faces.size() > 1 ? "CAD faces " : "CAD face ") + list + buf);
+        again.refined_faces = faces;
+        r = std::move(again);
+        return mesh;
+      } catch (const InvalidMesh& worse) {
+        // Faces under the flat cells left join the list.
+        faces.insert(faces.end(), worse.faces.begin(), worse.faces.end());
+        std::sort(faces.begin(), faces.end());
+        faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+      } catch (const CadError&) {
+        throw;
+      } catch (const Error&) {
+        break;
+      }
+    }
+    throw;
+  }
 }
 
 }  // namespace
@@ -73,7 +154,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
 
   MixedMesh mesh;
   try {
-    mesh = mesh_once(cad, options, r);
+    mesh = mesh_once_or_refined(cad, options, r);
   } catch (const CadError&) {
     throw;
   } catch (const Error& e) {

@@ -35,6 +35,9 @@ struct MeshReport {
   double total_seconds = 0;
   // Things the user should know about a mesh that is valid (e.g. a volume far off the CAD's).
   std::vector<std::string> warnings;
+  // CAD faces meshed again at a finer size because the mesh at h had flat or inverted cells on
+  // them (empty when the first mesh was valid).
+  std::vector<int> refined_faces;
 };
 
 // Hex-dominant mesh of every solid of the part. Throws hexfem::Error (one line) on bad options,

@@ -199,3 +199,37 @@ TEST(Assembly, TouchingSolidsAreRefusedByName) {
 
 }  // namespace
 }  // namespace hexfem
+
+namespace hexfem {
+namespace {
+
+// 917_fusee (a cast steering knuckle, units metre) at h = 28.7295 mm (its diagonal / 15): a
+// B-spline face meets its planar neighbour at a knife edge, and at this h one of its triangles
+// lies on two of the neighbour's, facing the other way: a pocket of zero thickness that TetGen
+// fills with two flat tets, which no flip, lift or interior point removes. The faces under the
+// flat cells are meshed again at h/2, and the mesh is valid.
+TEST(Fusee, FlatCellsOnAKnifeEdgeGoWhenTheirFacesAreMeshedFiner) {
+  const std::string path = std::string(HEXFEM_TEST_DATA) + "/917_fusee.stp";
+  MeshOptions o;
+  o.surface.h = 28.7295;
+  o.surface.repair = false;  // the mesh at h alone
+  EXPECT_THROW(mesh_file(path, o), Error);
+  o.surface.repair = true;
+  MeshReport r;
+  const MixedMesh m = mesh_file(path, o, &r);
+  const MeshStats st = compute_stats(m);
+  EXPECT_EQ(st.inverted + st.degenerate, 0u);
+  EXPECT_TRUE(st.watertight);
+  // The two faces of the knife edge (CAD ids as `hexfem info` numbers them) are among those
+  // meshed again.
+  EXPECT_TRUE(std::binary_search(r.refined_faces.begin(), r.refined_faces.end(), 105));
+  EXPECT_TRUE(std::binary_search(r.refined_faces.begin(), r.refined_faces.end(), 122));
+  EXPECT_LE(r.refined_faces.size(), 5u);  // local: a few of its 249 faces
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("meshed again at h/2"), std::string::npos) << r.warnings[0];
+  const double cad_volume = CadModel::read(path).volume();
+  EXPECT_LT(std::abs(st.volume - cad_volume) / cad_volume, 0.05);
+}
+
+}  // namespace
+}  // namespace hexfem
