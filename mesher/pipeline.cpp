@@ -109,8 +109,8 @@ MixedMesh mesh_once_or_refined(const CadModel& cad, const MeshOptions& options, 
         std::string list;
         for (int f : faces) list += (list.empty() ? "" : ", ") + std::to_string(f);
         char buf[160];
-        std::snprintf(buf, sizeof buf, " meshed again at h/%d: at h = %g they held flat cells",
-                      1 << level, h);
+        std::snprintf(buf, sizeof buf, " meshed again at h/%d: at h = %g %s flat or inverted cells",
+                      1 << level, h, faces.size() > 1 ? "they held" : "it held");
         again.warnings.push_back((faces.size() > 1 ? "CAD faces " : "CAD face ") + list + buf);
         again.refined_faces = faces;
         r = std::move(again);
