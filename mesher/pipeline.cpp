@@ -50,14 +50,6 @@ std::vector<int> faces_under_bad_cells(const MixedMesh& mesh) {
   return faces;
 }
 
-// Thrown by mesh_once for an invalid volume mesh: the message, and the CAD faces under the flat
-// or inverted cells (a size there finer than h may remove them).
-struct InvalidMesh : Error {
-  InvalidMesh(const std::string& what, std::vector<int> under_bad_cells)
-      : Error(what), faces(std::move(under_bad_cells)) {}
-  std::vector<int> faces;
-};
-
 // Surface and volume mesh at the given options, checked valid; fills the report's mesh figures.
 MixedMesh mesh_once(const CadModel& cad, const MeshOptions& options, MeshReport& r) {
   show_progress("meshing surfaces...");
@@ -78,23 +70,25 @@ MixedMesh mesh_once(const CadModel& cad, const MeshOptions& options, MeshReport&
                              std::to_string(stats.open_boundary_edges) +
                              " open boundary edges); nothing written - try another --h";
     if (!stats.watertight) throw Error(what);
-    throw InvalidMesh(what, faces_under_bad_cells(mesh));
+    throw LocalMeshError(what, faces_under_bad_cells(mesh), "flat or inverted cells");
   }
   r.mesh_volume = stats.volume;
   r.volume_error = r.cad_volume > 0 ? (r.mesh_volume - r.cad_volume) / r.cad_volume : 0;
   return mesh;
 }
 
-// mesh_once; where its mesh has flat or inverted cells, the CAD faces under them are meshed
-// again at h/2, then h/4 (917_fusee at h = 28.7: a B-spline face meets its planar neighbour at
-// a knife edge, and at h its chord triangle lies on the neighbour's two triangles, a pocket of
-// zero thickness that TetGen fills with two flat tets). The user is told which faces.
+// mesh_once; where its mesh has flat or inverted cells, or its surface mesh crosses itself, the
+// CAD faces there are meshed again at h/2, then h/4, and the user is told which. 917_fusee at h
+// = 28.7: a B-spline face meets its planar neighbour at a knife edge, and at h its chord
+// triangle lies on the neighbour's two triangles, a pocket of zero thickness that TetGen fills
+// with two flat tets. 40mm_capot at h = 14.6 with the order-2 curvature bound: triangles of
+// face 6 cross faces 99 and 120.
 MixedMesh mesh_once_or_refined(const CadModel& cad, const MeshOptions& options, MeshReport& r) {
   try {
     return mesh_once(cad, options, r);
-  } catch (const InvalidMesh& bad) {
-    if (bad.faces.empty() || !options.surface.repair) throw;
-    std::vector<int> faces = bad.faces;
+  } catch (const LocalMeshError& bad) {
+    if (bad.cad_faces.empty() || !options.surface.repair) throw;
+    std::vector<int> faces = bad.cad_faces;
     const double h = options.surface.h;
     for (int level = 1; level <= kLocalRefinements; ++level) {
       MeshOptions finer = options;
@@ -109,15 +103,15 @@ MixedMesh mesh_once_or_refined(const CadModel& cad, const MeshOptions& options, 
         std::string list;
         for (int f : faces) list += (list.empty() ? "" : ", ") + std::to_string(f);
         char buf[160];
-        std::snprintf(buf, sizeof buf, " meshed again at h/%d: at h = %g %s flat or inverted cells",
-                      1 << level, h, faces.size() > 1 ? "they held" : "it held");
+        std::snprintf(buf, sizeof buf, " meshed again at h/%d: at h = %g %s %s", 1 << level, h,
+                      faces.size() > 1 ? "they had" : "it had", bad.what_defect.c_str());
         again.warnings.push_back((faces.size() > 1 ? "CAD faces " : "CAD face ") + list + buf);
         again.refined_faces = faces;
         r = std::move(again);
         return mesh;
-      } catch (const InvalidMesh& worse) {
-        // Faces under the flat cells left join the list.
-        faces.insert(faces.end(), worse.faces.begin(), worse.faces.end());
+      } catch (const LocalMeshError& worse) {
+        // The faces of the defects left join the list.
+        faces.insert(faces.end(), worse.cad_faces.begin(), worse.cad_faces.end());
         std::sort(faces.begin(), faces.end());
         faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
       } catch (const CadError&) {

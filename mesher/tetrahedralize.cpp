@@ -71,6 +71,17 @@ std::string intersection_message(const SurfaceMesh& surface, const SolidLocator&
   return msg;
 }
 
+// The CAD faces of the surface triangles that cross others (up to 64 crossing pairs).
+std::vector<int> crossing_faces(const SurfaceMesh& surface, const SolidLocator& locator) {
+  std::vector<int> faces;
+  for (const auto& p : locator.intersecting_triangles(64))
+    for (std::int32_t t : p) faces.push_back(surface.mesh.bface_cad_face[t]);
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  if (!faces.empty() && faces.front() < 0) faces.erase(faces.begin());
+  return faces;
+}
+
 // TetGen's output, copied out of the child process.
 struct TetgenResult {
   std::string error;  // empty on success
@@ -270,8 +281,11 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
   if (!out.error.empty()) {
     const std::string why = intersection_message(surface, locator);
     if (why.starts_with("solids ")) throw CadError(why);  // a fault of the CAD, not of TetGen
-    throw Error("TetGen failed (" + out.error + ")" +
-                (why.empty() ? std::string(" on the surface mesh") : ": " + why));
+    const std::string what = "TetGen failed (" + out.error + ")" +
+                             (why.empty() ? std::string(" on the surface mesh") : ": " + why);
+    if (why.empty()) throw Error(what);
+    throw LocalMeshError(what, crossing_faces(surface, locator),
+                         "a surface mesh that crossed itself");
   }
   TetMesh mesh;
   const std::size_t np = out.points.size() / 3;

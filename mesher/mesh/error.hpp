@@ -4,6 +4,8 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace hexfem {
 
@@ -15,6 +17,16 @@ struct Error : std::runtime_error {
 // and no other option of ours can help, and the message must not suggest one.
 struct CadError : Error {
   using Error::Error;
+};
+
+// A defect of the mesh on some CAD faces (the surface mesh crossing itself there, flat cells
+// on them) that a finer size on those faces may remove: the pipeline tries that before it
+// gives up (mesher/pipeline.cpp).
+struct LocalMeshError : Error {
+  LocalMeshError(const std::string& message, std::vector<int> faces, std::string defect)
+      : Error(message), cad_faces(std::move(faces)), what_defect(std::move(defect)) {}
+  std::vector<int> cad_faces;  // sorted, unique
+  std::string what_defect;     // a few words: "flat or inverted cells", ...
 };
 
 }  // namespace hexfem

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
@@ -203,32 +204,61 @@ TEST(Assembly, TouchingSolidsAreRefusedByName) {
 namespace hexfem {
 namespace {
 
+// A part meshed at h with `o` after the local refinement of the faces in `faces`: valid,
+// watertight, within `tol` of the CAD volume; those faces among the refined ones, and the
+// warning naming the defect.
+void expect_refined_and_valid(const std::string& path, const MeshOptions& o,
+                              const std::vector<int>& faces, const std::string& defect,
+                              double tol) {
+  MeshReport r;
+  const MeshStats st = compute_stats(mesh_file(path, o, &r));
+  EXPECT_EQ(st.inverted + st.degenerate, 0u);
+  EXPECT_TRUE(st.watertight);
+  for (int f : faces)
+    EXPECT_TRUE(std::binary_search(r.refined_faces.begin(), r.refined_faces.end(), f)) << f;
+  EXPECT_LE(r.refined_faces.size(), 12u);  // local: a few of the part's faces
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("meshed again at h/"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find(defect), std::string::npos) << r.warnings[0];
+  const double cad_volume = CadModel::read(path).volume();
+  EXPECT_LT(std::abs(st.volume - cad_volume) / cad_volume, tol);
+}
+
 // 917_fusee (a cast steering knuckle, units metre) at h = 28.7295 mm (its diagonal / 15): a
 // B-spline face meets its planar neighbour at a knife edge, and at this h one of its triangles
 // lies on two of the neighbour's, facing the other way: a pocket of zero thickness that TetGen
 // fills with two flat tets, which no flip, lift or interior point removes. The faces under the
-// flat cells are meshed again at h/2, and the mesh is valid.
+// flat cells (the knife edge's two among them) are meshed again at h/2, and the mesh is valid.
 TEST(Fusee, FlatCellsOnAKnifeEdgeGoWhenTheirFacesAreMeshedFiner) {
   const std::string path = std::string(HEXFEM_TEST_DATA) + "/917_fusee.stp";
   MeshOptions o;
   o.surface.h = 28.7295;
   o.surface.repair = false;  // the mesh at h alone
-  EXPECT_THROW(mesh_file(path, o), Error);
+  EXPECT_THROW(mesh_file(path, o), LocalMeshError);
   o.surface.repair = true;
-  MeshReport r;
-  const MixedMesh m = mesh_file(path, o, &r);
-  const MeshStats st = compute_stats(m);
-  EXPECT_EQ(st.inverted + st.degenerate, 0u);
-  EXPECT_TRUE(st.watertight);
-  // The two faces of the knife edge (CAD ids as `hexfem info` numbers them) are among those
-  // meshed again.
-  EXPECT_TRUE(std::binary_search(r.refined_faces.begin(), r.refined_faces.end(), 105));
-  EXPECT_TRUE(std::binary_search(r.refined_faces.begin(), r.refined_faces.end(), 122));
-  EXPECT_LE(r.refined_faces.size(), 5u);  // local: a few of its 249 faces
-  ASSERT_FALSE(r.warnings.empty());
-  EXPECT_NE(r.warnings[0].find("meshed again at h/2"), std::string::npos) << r.warnings[0];
-  const double cad_volume = CadModel::read(path).volume();
-  EXPECT_LT(std::abs(st.volume - cad_volume) / cad_volume, 0.05);
+  expect_refined_and_valid(path, o, {105, 122}, "flat or inverted cells", 0.05);
+}
+
+// 40mm_capot at h = 14.644 mm (its diagonal / 15) with the curvature bound `modal` uses at order
+// 2 (12 per turn, never finer than h/2): triangles of CAD face 6 cross faces 99 and 120, and
+// TetGen refuses the surface. The faces of the crossing triangles are meshed again finer (h/2
+// still crosses, with more faces; h/4 does not), and the mesh is valid.
+TEST(Capot, FacesWhoseTrianglesCrossAreMeshedFiner) {
+  const std::string path = std::string(HEXFEM_TEST_DATA) + "/40mm_capot.stp";
+  MeshOptions o;
+  o.surface.h = 14.644;
+  o.surface.curvature = 12;
+  o.surface.curvature_min_ratio = 0.5;
+  o.surface.repair = false;  // the mesh at h alone
+  try {
+    mesh_file(path, o);
+    ADD_FAILURE() << "the surface at h was expected to cross itself";
+  } catch (const LocalMeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("intersects itself"), std::string::npos) << e.what();
+    EXPECT_TRUE(std::binary_search(e.cad_faces.begin(), e.cad_faces.end(), 6));
+  }
+  o.surface.repair = true;
+  expect_refined_and_valid(path, o, {6}, "crossed itself", 0.02);
 }
 
 }  // namespace
