@@ -32,6 +32,20 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // size before (h/2, h/4).
 constexpr int kLocalRefinements = 2;
 
+void sort_unique(std::vector<int>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// A report for a mesh made again: the CAD figures of the first one, nothing of its mesh.
+MeshReport report_for_retry(const MeshReport& r) {
+  MeshReport again;
+  again.file_unit = r.file_unit;
+  again.cad_volume = r.cad_volume;
+  again.cad_seconds = r.cad_seconds;
+  return again;
+}
+
 // The CAD faces of the boundary faces that touch a node of a flat or inverted cell, sorted.
 std::vector<int> faces_under_bad_cells(const MixedMesh& mesh) {
   std::vector<char> bad_node(mesh.nodes.size(), 0);
@@ -45,8 +59,7 @@ std::vector<int> faces_under_bad_cells(const MixedMesh& mesh) {
       touches = touches || bad_node[mesh.bface(f)[i]];
     if (touches && mesh.bface_cad_face[f] >= 0) faces.push_back(mesh.bface_cad_face[f]);
   }
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  sort_unique(faces);
   return faces;
 }
 
@@ -94,10 +107,7 @@ MixedMesh mesh_once_or_refined(const CadModel& cad, const MeshOptions& options, 
       MeshOptions finer = options;
       const double size = h / (1 << level);
       for (int f : faces) finer.surface.face_sizes.emplace_back(f, size);
-      MeshReport again;
-      again.file_unit = r.file_unit;
-      again.cad_volume = r.cad_volume;
-      again.cad_seconds = r.cad_seconds;
+      MeshReport again = report_for_retry(r);
       try {
         MixedMesh mesh = mesh_once(cad, finer, again);
         std::string list;
@@ -112,8 +122,7 @@ MixedMesh mesh_once_or_refined(const CadModel& cad, const MeshOptions& options, 
       } catch (const LocalMeshError& worse) {
         // The faces of the defects left join the list.
         faces.insert(faces.end(), worse.cad_faces.begin(), worse.cad_faces.end());
-        std::sort(faces.begin(), faces.end());
-        faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+        sort_unique(faces);
       } catch (const CadError&) {
         throw;
       } catch (const Error&) {
@@ -178,10 +187,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
       MeshOptions finer = base;
       curvature = curvature > 0 ? 2 * curvature : 16;
       finer.surface.curvature = curvature;
-      MeshReport again;
-      again.file_unit = r.file_unit;
-      again.cad_volume = r.cad_volume;
-      again.cad_seconds = r.cad_seconds;
+      MeshReport again = report_for_retry(r);
       MixedMesh retry;
       try {
         retry = mesh_once(cad, finer, again);

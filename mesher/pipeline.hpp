@@ -36,7 +36,7 @@ struct MeshReport {
   // Things the user should know about a mesh that is valid (e.g. a volume far off the CAD's).
   std::vector<std::string> warnings;
   // CAD faces meshed again at a finer size because the mesh at h had flat or inverted cells on
-  // them (empty when the first mesh was valid).
+  // them or a surface that crossed itself there (empty when the first mesh was valid).
   std::vector<int> refined_faces;
 };
 

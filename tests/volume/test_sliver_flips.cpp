@@ -34,20 +34,21 @@ TEST(SliverFlips, AShellWhoseTwoTriangulationsTieIsNotFlippedForEver) {
   // The surface: the shell's eight outer faces (each face of a tet not shared with another).
   SurfaceMesh surface;
   surface.mesh.nodes = tets.nodes;
-  std::map<std::array<std::int32_t, 3>, int> count;
-  const int skip_faces[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+  // Each tet face by its sorted corners, with its outward corners and how many tets hold it.
+  std::map<std::array<std::int32_t, 3>, std::pair<std::array<std::int32_t, 3>, int>> faces;
+  const int outward[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
   for (const auto& t : tets.tets)
-    for (const auto& f : skip_faces) {
-      std::array<std::int32_t, 3> k = {t[f[0]], t[f[1]], t[f[2]]};
-      std::sort(k.begin(), k.end());
-      ++count[k];
+    for (const auto& f : outward) {
+      const std::array<std::int32_t, 3> face = {t[f[0]], t[f[1]], t[f[2]]};
+      std::array<std::int32_t, 3> key = face;
+      std::sort(key.begin(), key.end());
+      auto& [corners, count] = faces[key];
+      corners = face;
+      ++count;
     }
-  for (const auto& t : tets.tets)
-    for (const auto& f : skip_faces) {
-      std::array<std::int32_t, 3> k = {t[f[0]], t[f[1]], t[f[2]]};
-      std::sort(k.begin(), k.end());
-      if (count[k] == 1) surface.mesh.add_bface(t[f[0]], t[f[1]], t[f[2]], -1, 1);
-    }
+  for (const auto& [key, face] : faces)
+    if (face.second == 1)
+      surface.mesh.add_bface(face.first[0], face.first[1], face.first[2], -1, 1);
   ASSERT_EQ(surface.mesh.num_bfaces(), 8u);
   const TetTopology topo(tets, surface);
   RecombineState state(topo, RecombineLimits{});
