@@ -47,6 +47,7 @@ int run(const ConvergeArgs& a) {
     study.reference_source = a.reference;
   }
   const CadModel cad = CadModel::read(a.file, CadReadOptions{a.modal.glue});
+  check_material_solids(modal.material, cad);
   check_fixed_faces_exist(cad, a.modal.fix);
 
   std::vector<std::pair<std::string, std::string>> solvers;  // per row: path taken, why
@@ -95,8 +96,9 @@ int run(const ConvergeArgs& a) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
-  std::printf("%s: material '%s', fixed %s; lengths in mm, frequencies in Hz\nelements %s\n",
-              study.part.c_str(), modal.material.name.c_str(), a.modal.fix.front().c_str(),
+  std::printf("%s: material %s, fixed %s; lengths in mm, frequencies in Hz\nelements %s\n",
+              study.part.c_str(), material_summary(modal.material).c_str(),
+              a.modal.fix.front().c_str(),
               element_formulations(a.modal.order, modal.incompatible_hex).c_str());
   // One bound for every row, or the rows' own (the mesher's retries may raise it for one h).
   const bool same_bound = std::all_of(curvature.begin(), curvature.end(),

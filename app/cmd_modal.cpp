@@ -139,7 +139,7 @@ int run(const Args& a) {
   const bool cad_input = is_cad_file(a.mesh);
   ModalOptions opt = check_arguments(a, cad_input);
   opt.length_scale = units.scale;
-  const Material& mat = opt.material;
+  const SolidMaterials& mat = opt.material;
 
   // A CAD part is meshed first (lengths in mm) and solved in the same process.
   MixedMesh mesh;
@@ -149,6 +149,7 @@ int run(const Args& a) {
   GradedEdges graded;  // --singular-size, for the report
   if (cad_input) {
     const CadModel cad = CadModel::read(a.mesh, CadReadOptions{a.modal.glue});
+    check_material_solids(opt.material, cad);
     graded = singular_edges_graded(a.modal, cad);
     const MeshOptions mesh_options = cad_mesh_options(a.modal, a.h, graded);
     part = run_part_modal(cad, mesh_options, opt, a.modal.force, a.modal.order);
@@ -273,8 +274,11 @@ int run(const Args& a) {
         part.order2.hanging_placed, part.order2.hanging_kept, part.order2.nc_made_conformal);
   std::printf("units     lengths in %s (x %g -> m), material in SI, frequencies in Hz\n",
               shown.name == "SI" ? "m" : "mm", shown.scale);
-  std::printf("material  %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", mat.name.c_str(), mat.E,
-              mat.nu, mat.rho);
+  std::printf("material  %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", mat.base.name.c_str(),
+              mat.base.E, mat.base.nu, mat.base.rho);
+  for (const auto& [solid, m] : mat.by_solid)
+    std::printf("material  solid %d: %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", solid,
+                m.name.c_str(), m.E, m.nu, m.rho);
   if (a.modal.fix.empty())
     std::printf("boundary  free-free (six rigid-body modes expected near 0 Hz)\n");
   for (std::size_t i = 0; i < a.modal.fix.size(); ++i)

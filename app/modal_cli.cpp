@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
+#include <stdexcept>
 
 #include "app/cli_checks.hpp"
 #include "app/part_modal.hpp"
@@ -17,7 +19,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                  "fixed DOFs, repeatable: face:3,7 | group:NAME | \"x<0.001\" | "
                  "\"z<1e-3&x>9.99\"; append @xyz to fix only some components (coordinates in "
                  "the mesh's units)");
-  sub.add_option("--material", o.material, "steel | aluminium | titanium (default steel)");
+  sub.add_option("--material", o.materials,
+                 "steel | aluminium | titanium (default steel); repeatable: solid:2,5=aluminium "
+                 "or solid:3=E,nu,rho (SI) gives some solids of an assembly their own");
   o.E_given = sub.add_option("--E", o.E, "Young's modulus [Pa], overrides the material's");
   o.nu_given = sub.add_option("--nu", o.nu, "Poisson's ratio, overrides the material's");
   o.rho_given = sub.add_option("--rho", o.rho, "density [kg/m^3], overrides the material's");
@@ -135,15 +139,141 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const GradedEdg
   return m;
 }
 
+namespace {
+
+// "1,4-6" -> 1, 4, 5, 6 (positive ids, at most 100000 in a range).
+std::vector<std::int32_t> parse_solid_ids(const std::string& spec, const std::string& text) {
+  std::vector<std::int32_t> ids;
+  std::size_t pos = 0;
+  auto bad = [&]() {
+    return Error("--material " + spec + ": expected solid ids like 2 or 1,4-6 before '=', got '" +
+                 text + "'");
+  };
+  while (pos <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', pos), text.size());
+    const std::string item = text.substr(pos, comma - pos);
+    const std::size_t dash = item.find('-');
+    try {
+      std::size_t used = 0;
+      const long lo = std::stol(item.substr(0, dash), &used);
+      if (used != item.substr(0, dash).size()) throw bad();
+      long hi = lo;
+      if (dash != std::string::npos) {
+        hi = std::stol(item.substr(dash + 1), &used);
+        if (used != item.size() - dash - 1) throw bad();
+      }
+      if (lo < 1 || hi < lo || hi - lo > 100000 || hi > std::numeric_limits<std::int32_t>::max())
+        throw bad();
+      for (long i = lo; i <= hi; ++i) ids.push_back(static_cast<std::int32_t>(i));
+    } catch (const std::logic_error&) {  // stol: not a number, out of range
+      throw bad();
+    }
+    pos = comma + 1;
+  }
+  return ids;
+}
+
+// "aluminium" or "70e9,0.33,2700".
+Material parse_material_value(const std::string& spec, const std::string& text) {
+  if (text.find(',') == std::string::npos) return material_by_name(text);
+  Material m;
+  m.name = "custom";
+  double* v[3] = {&m.E, &m.nu, &m.rho};
+  std::size_t pos = 0;
+  for (int i = 0; i < 3; ++i) {
+    const std::size_t comma = i < 2 ? text.find(',', pos) : text.size();
+    std::size_t used = 0;
+    const std::string item = comma == std::string::npos ? "" : text.substr(pos, comma - pos);
+    try {
+      *v[i] = std::stod(item, &used);
+    } catch (const std::logic_error&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size() || (i == 2 && comma != text.size()))
+      throw Error("--material " + spec + ": expected a material name or E,nu,rho (Pa, -, kg/m^3)");
+    pos = comma + 1;
+  }
+  if (text.find(',', pos) != std::string::npos)
+    throw Error("--material " + spec + ": expected a material name or E,nu,rho (Pa, -, kg/m^3)");
+  return m;
+}
+
+}  // namespace
+
+SolidMaterials parse_materials(const std::vector<std::string>& specs, const double* E,
+                               const double* nu, const double* rho) {
+  SolidMaterials out(material_by_name("steel"));
+  bool named = false;
+  for (const std::string& spec : specs) {
+    if (spec.rfind("solid:", 0) != 0) {
+      if (named)
+        throw Error("--material " + spec + ": a material for every solid is already given");
+      out.base = material_by_name(spec);
+      named = true;
+      continue;
+    }
+    const std::size_t eq = spec.find('=');
+    if (eq == std::string::npos)
+      throw Error("--material " + spec + ": expected solid:IDS=NAME or solid:IDS=E,nu,rho");
+    const Material m = parse_material_value(spec, spec.substr(eq + 1));
+    try {
+      validate(m);
+    } catch (const Error& e) {
+      throw Error("--material " + spec + ": " + e.what());
+    }
+    for (std::int32_t id : parse_solid_ids(spec, spec.substr(6, eq - 6)))
+      out.by_solid.emplace_back(id, m);
+  }
+  if (E || nu || rho) out.base.name += " (modified)";
+  if (E) check_finite("--E", out.base.E = *E);
+  if (nu) check_finite("--nu", out.base.nu = *nu);
+  if (rho) check_finite("--rho", out.base.rho = *rho);
+  validate(out.base);
+  std::stable_sort(out.by_solid.begin(), out.by_solid.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  validate(out);  // a solid named twice
+  return out;
+}
+
+void check_material_solids(const SolidMaterials& m, const CadModel& cad) {
+  for (const auto& [solid, mat] : m.by_solid)
+    if (solid > cad.num_solids())
+      throw Error("--material solid:" + std::to_string(solid) + ": the CAD model has " +
+                  std::to_string(cad.num_solids()) + " solid(s), ids 1 to " +
+                  std::to_string(cad.num_solids()) + " (hexfem info lists them)");
+}
+
+std::string material_summary(const SolidMaterials& m) {
+  auto same = [](const Material& a, const Material& b) {
+    return a.name == b.name && a.E == b.E && a.nu == b.nu && a.rho == b.rho;
+  };
+  auto describe = [](const Material& mat) {
+    if (mat.name != "custom") return "'" + mat.name + "'";
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "E = %g Pa, nu = %g, rho = %g kg/m^3", mat.E, mat.nu, mat.rho);
+    return std::string(buf);
+  };
+  std::string s = describe(m.base);
+  std::vector<char> done(m.by_solid.size(), 0);
+  for (std::size_t i = 0; i < m.by_solid.size(); ++i) {
+    if (done[i]) continue;
+    std::string ids;
+    int count = 0;
+    for (std::size_t k = i; k < m.by_solid.size(); ++k)
+      if (!done[k] && same(m.by_solid[k].second, m.by_solid[i].second)) {
+        done[k] = 1;
+        ids += (count++ ? ", " : "") + std::to_string(m.by_solid[k].first);
+      }
+    s += (count > 1 ? "; solids " : "; solid ") + ids + ": " + describe(m.by_solid[i].second);
+  }
+  return s;
+}
+
 ModalOptions modal_options_from(const ModalCliOptions& o) {
-  Material mat = material_by_name(o.material);
-  const bool E = o.E_given && o.E_given->count(), nu = o.nu_given && o.nu_given->count(),
-             rho = o.rho_given && o.rho_given->count();
-  if (E || nu || rho) mat.name += " (modified)";
-  if (E) check_finite("--E", mat.E = o.E);
-  if (nu) check_finite("--nu", mat.nu = o.nu);
-  if (rho) check_finite("--rho", mat.rho = o.rho);
-  validate(mat);
+  auto given = [](CLI::Option* opt) { return opt && opt->count() > 0; };
+  const SolidMaterials mat =
+      parse_materials(o.materials, given(o.E_given) ? &o.E : nullptr,
+                      given(o.nu_given) ? &o.nu : nullptr, given(o.rho_given) ? &o.rho : nullptr);
   if (o.order != 1 && o.order != 2)
     throw Error("--order must be 1 or 2 (got " + std::to_string(o.order) + ")");
   if (o.modes < 1) throw Error("--modes must be at least 1 (got " + std::to_string(o.modes) + ")");

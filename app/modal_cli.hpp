@@ -12,7 +12,9 @@ namespace hexfem {
 
 struct ModalCliOptions {
   std::vector<std::string> fix;
-  std::string material = "steel";
+  // --material, repeatable: one name for every solid (default steel), and solid:IDS=NAME or
+  // solid:IDS=E,nu,rho (SI) for some solids (parse_materials).
+  std::vector<std::string> materials;
   double E = 0, nu = 0, rho = 0;  // used only when given (see the options below)
   int modes = 10;
   std::string hex8 = "incompatible";
@@ -50,6 +52,20 @@ struct ModalCliOptions {
 // Declares --fix --material --E --nu --rho --modes --hex8 --solver --force on `sub`; `o.modes`
 // holds the default number of modes.
 void add_modal_options(CLI::App& sub, ModalCliOptions& o);
+
+// The --material values: at most one plain name (every solid; steel when none), then
+// "solid:IDS=NAME" or "solid:IDS=E,nu,rho" (Pa, -, kg/m^3) with IDS a list of ids and ranges
+// ("1,4-6"). --E, --nu and --rho (when given, > 0 in `E`...) modify the plain name's material.
+// Throws hexfem::Error naming the bad value.
+SolidMaterials parse_materials(const std::vector<std::string>& specs, const double* E,
+                               const double* nu, const double* rho);
+
+// "'steel'", or with per-solid materials "'steel'; solids 2, 5: 'aluminium'" (solids of the same
+// material together), for the text reports.
+std::string material_summary(const SolidMaterials& m);
+
+// A material given to a solid the CAD model does not have: a one-line error before any meshing.
+void check_material_solids(const SolidMaterials& m, const CadModel& cad);
 
 // Checks every value (material and its overrides finite and physical, --modes >= 1, --hex8, the
 // syntax of each --fix) and returns the solver's options (length_scale left at 1).

@@ -8,6 +8,16 @@ void to_json(nlohmann::json& j, const Material& m) {
   j = {{"name", m.name}, {"E", m.E}, {"nu", m.nu}, {"rho", m.rho}};
 }
 
+void to_json(nlohmann::json& j, const SolidMaterials& m) {
+  j = m.base;
+  if (m.by_solid.empty()) return;
+  for (const auto& [solid, mat] : m.by_solid) {
+    nlohmann::json e = mat;
+    e["solid"] = solid;
+    j["solids"].push_back(e);
+  }
+}
+
 void to_json(nlohmann::json& j, const ModalResult& r) {
   j["fixed_dofs"] = r.num_fixed_dofs;
   j["free_dofs"] = r.num_free_dofs;

@@ -15,6 +15,9 @@ namespace hexfem {
 // Material (SI), DOF counts, mass, volume, the modes (frequency, eigenvalue, effective mass
 // fractions) and the solver's figures.
 void to_json(nlohmann::json& j, const Material& m);
+// The material of every solid; with per-solid materials also "solids": [{solid, name, E, nu,
+// rho}] for the solids that have their own.
+void to_json(nlohmann::json& j, const SolidMaterials& m);
 void to_json(nlohmann::json& j, const ModalResult& r);
 
 // One convergence run, and the study with errors, observed orders and monotonicity.

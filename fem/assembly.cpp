@@ -120,9 +120,24 @@ inline void atomic_add(double& target, double value) {
 
 }  // namespace
 
-SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const DofMap& dofs,
-                               double length_scale, bool incompatible_hex) {
-  validate(mat);
+std::vector<const Material*> cell_materials(const MixedMesh& mesh, const SolidMaterials& mats) {
+  if (mesh.cell_solid.size() != mesh.num_cells())
+    return std::vector<const Material*>(mesh.num_cells(), &mats.base);
+  const std::int32_t max_solid =
+      mesh.cell_solid.empty() ? 0
+                              : *std::max_element(mesh.cell_solid.begin(), mesh.cell_solid.end());
+  const std::vector<const Material*> table = mats.table(max_solid);
+  std::vector<const Material*> out(mesh.num_cells());
+  for (std::size_t c = 0; c < out.size(); ++c)
+    out[c] =
+        mesh.cell_solid[c] >= 0 ? table[static_cast<std::size_t>(mesh.cell_solid[c])] : &mats.base;
+  return out;
+}
+
+SystemMatrices assemble_system(const MixedMesh& mesh, const SolidMaterials& mats,
+                               const DofMap& dofs, double length_scale, bool incompatible_hex) {
+  validate(mats);
+  const std::vector<const Material*> cell_mat = cell_materials(mesh, mats);
   if (dofs.dof.size() != 3 * mesh.nodes.size())
     throw Error("assemble_system: DOF map does not match the mesh");
   SystemMatrices sys;
@@ -135,8 +150,8 @@ SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const
 
   const long nc = static_cast<long>(mesh.num_cells());
   std::atomic<long> bad_cell{std::numeric_limits<long>::max()};
-  double mass = 0;
-#pragma omp parallel reduction(+ : mass)
+  double mass = 0, volume = 0;
+#pragma omp parallel reduction(+ : mass, volume)
   {
     constexpr int kMaxDofs = 3 * kMaxElementNodes, kMaxTiedDofs = 3 * kMaxTiedElementNodes;
     std::vector<double> Kbuf(kMaxDofs * kMaxDofs), mbuf(kMaxElementNodes * kMaxElementNodes);
@@ -148,6 +163,7 @@ SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const
     for (long c = 0; c < nc; ++c) {
       const CellKind kind = mesh.cell_kind[c];
       const ReferenceElement& ref = reference_element(kind, mesh.order);
+      const Material& mat = *cell_mat[c];
       int n = ref.n, nd = 3 * n;
       double *Ke = Kbuf.data(), *me = mbuf.data();
       mesh.element_nodes(c, ids);
@@ -163,7 +179,10 @@ SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const
         }
         continue;
       }
-      for (int i = 0; i < n * n; ++i) mass += me[i];
+      double cell_mass = 0;
+      for (int i = 0; i < n * n; ++i) cell_mass += me[i];
+      mass += cell_mass;
+      volume += cell_mass / mat.rho;
       bool tied = false;
       const int k = dof_nodes(mesh, &dofs.ties, c, ids, C.data(), &tied);
       if (tied) {  // a hanging node of an NC face: the matrices move onto its masters
@@ -213,7 +232,7 @@ SystemMatrices assemble_system(const MixedMesh& mesh, const Material& mat, const
                 ") has a non-positive Jacobian determinant: it is inverted or degenerate");
   }
   sys.mass = mass;
-  sys.volume = mass / mat.rho;
+  sys.volume = volume;
   return sys;
 }
 

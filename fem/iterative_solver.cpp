@@ -13,6 +13,7 @@
 #include <numeric>
 #include <string>
 
+#include "fem/assembly.hpp"
 #include "fem/block_vcycle.hpp"
 #include "fem/boundary.hpp"
 #include "fem/element.hpp"
@@ -36,12 +37,11 @@ double seconds_since(Clock::time_point t0) {
 
 enum Command : int { kQuit = 0, kSolve = 1 };
 
-// Everything but the mesh and the fixed mask that every rank needs for a solve (plain data,
-// broadcast as bytes).
+// Everything but the mesh, the fixed mask and the materials that every rank needs for a solve
+// (plain data, broadcast as bytes).
 struct JobParams {
   int num_modes = 10;
   int incompatible_hex = 0;
-  double E = 0, nu = 0, rho = 0;
   double length_scale = 1;
   IterativeSettings settings;
 };
@@ -53,7 +53,8 @@ struct JobOutput {
   Eigen::MatrixXd effective_mass_fraction;
   double free_mass[3] = {0, 0, 0};
   double total_mass = 0;
-  double sigma = 0;  // the shift of K - σM
+  double total_volume = 0;  // Σ ∫ dV (the mass over each cell's own density)
+  double sigma = 0;         // the shift of K - σM
   double assemble_seconds = 0, setup_seconds = 0, solve_seconds = 0;
   long iterations = 0;
   std::string algorithm;  // LOBPCG, or the fallback and why
@@ -153,7 +154,8 @@ int cell_owner(const MixedMesh& mesh, const Layout& L, long c, int size) {
 
 // Typical K_ii / M_ii from the element matrices of a sample of cells (the same on every rank):
 // the scale of the shift, the zero-eigenvalue floor and the spurious eigenvalue.
-double stiffness_scale(const MixedMesh& mesh, const Material& mat, double length_scale) {
+double stiffness_scale(const MixedMesh& mesh, const std::vector<const Material*>& cell_mat,
+                       double length_scale) {
   const long nc = static_cast<long>(mesh.num_cells());
   const long step = std::max(1L, nc / 2000);
   double log_sum = 0;
@@ -166,7 +168,7 @@ double stiffness_scale(const MixedMesh& mesh, const Material& mat, double length
     mesh.element_nodes(c, ids);
     for (int i = 0; i < ref.n; ++i)
       for (int d = 0; d < 3; ++d) x[i][d] = mesh.nodes[ids[i]][d] * length_scale;
-    if (!(element_matrices(ref, x, mat, Ke.data(), me.data()) > 0)) continue;
+    if (!(element_matrices(ref, x, *cell_mat[c], Ke.data(), me.data()) > 0)) continue;
     for (int i = 0; i < 3 * ref.n; ++i) {
       const double m = me[(i / 3) * ref.n + i / 3];
       if (m > 0 && Ke[i * 3 * ref.n + i] > 0) {
@@ -217,16 +219,15 @@ Mat create_matrix(MatType type, long local_rows) {
 
 // Assembles K - σM (positive definite also for a free structure) and M over this rank's cells.
 // DOFs fixed on partly free nodes are decoupled, with K_ii / M_ii = λ_spurious.
-// Returns the mass of the whole mesh.
+// Returns the mass of the whole mesh; `volume` gets its volume.
 double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, const NodeTies& ties,
-                const Layout& L, const JobParams& job, double sigma, double lambda_spurious,
-                Matrices& mats) {
+                const Layout& L, const JobParams& job, const std::vector<const Material*>& cell_mat,
+                double sigma, double lambda_spurious, Matrices& mats, double& volume) {
   const int rank = mpi_rank(), size = mpi_size();
   mats.K = create_matrix(MATAIJ, L.end - L.begin);
   mats.M = create_matrix(MATSBAIJ, L.end - L.begin);
   preallocate(mesh, ties, L, mats.K, mats.M);
   HEXFEM_PETSC(MatSetOption(mats.M, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
-  const Material mat{"", job.E, job.nu, job.rho};
   constexpr int kTiedDofs = 3 * kMaxTiedElementNodes;
   std::vector<double> Kv(kTiedDofs * kTiedDofs), mv(kMaxTiedElementNodes * kMaxTiedElementNodes),
       Mv(kTiedDofs * kTiedDofs), Kt(kTiedDofs * kTiedDofs),
@@ -235,7 +236,7 @@ double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, c
   Vec3 x[kMaxElementNodes];
   std::int32_t ids[kMaxTiedElementNodes], tied_ids[kMaxTiedElementNodes];
   PetscInt idx[kMaxTiedElementNodes];
-  double mass = 0, mdiag_sum = 0;
+  double mass = 0, vol = 0, mdiag_sum = 0;
   long mdiag_count = 0, bad = 0;
   const long nc = static_cast<long>(mesh.num_cells());
   for (long c = 0; c < nc; ++c) {
@@ -243,6 +244,7 @@ double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, c
     const CellKind kind = mesh.cell_kind[c];
     const ReferenceElement& ref = reference_element(kind, mesh.order);
     int n = ref.n, nd = 3 * n;
+    const Material& mat = *cell_mat[c];
     mesh.element_nodes(c, ids);
     for (int i = 0; i < n; ++i)
       for (int d = 0; d < 3; ++d) x[i][d] = mesh.nodes[ids[i]][d] * job.length_scale;
@@ -252,7 +254,10 @@ double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, c
       ++bad;
       continue;
     }
-    for (int i = 0; i < n * n; ++i) mass += me[i];
+    double cell_mass = 0;
+    for (int i = 0; i < n * n; ++i) cell_mass += me[i];
+    mass += cell_mass;
+    vol += cell_mass / mat.rho;
     // A tied node's DOFs become its masters': K' = Cᵀ K C, m' = Cᵀ m C on the masters.
     if (const int k = tied_element_nodes(ties, ids, n, tied_ids, Cv.data()); k >= 0) {
       tie_element_matrices(Cv.data(), n, k, Ke, me, Kt.data(), mt.data());
@@ -278,9 +283,11 @@ double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, c
     HEXFEM_PETSC(MatSetValuesBlocked(mats.K, n, idx, n, idx, Ke, ADD_VALUES));
     HEXFEM_PETSC(MatSetValuesBlocked(mats.M, n, idx, n, idx, Me, ADD_VALUES));
   }
-  double local[4] = {mass, mdiag_sum, static_cast<double>(mdiag_count), static_cast<double>(bad)};
-  double global[4];
-  MPI_Allreduce(local, global, 4, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  double local[5] = {mass, mdiag_sum, static_cast<double>(mdiag_count), static_cast<double>(bad),
+                     vol};
+  double global[5];
+  MPI_Allreduce(local, global, 5, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  volume = global[4];
   if (global[3] > 0)
     throw Error(std::to_string(static_cast<long>(global[3])) +
                 " cell(s) have a non-positive Jacobian determinant: inverted or degenerate");
@@ -476,7 +483,7 @@ void collect(const std::function<double(int, Vec)>& mode, const Matrices& mats, 
 
 // The collective solve: every rank calls it with the same mesh, mask and parameters.
 JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
-                            const JobParams& job) {
+                            const SolidMaterials& materials, const JobParams& job) {
   const int rank = mpi_rank(), size = mpi_size();
   const IterativeSettings s = with_option_overrides(job.settings);
   JobOutput out;
@@ -492,13 +499,14 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   if (job.num_modes >= n)
     throw Error("requested " + std::to_string(job.num_modes) + " modes but the model has only " +
                 std::to_string(n) + " DOFs");
-  const Material mat{"", job.E, job.nu, job.rho};
-  const double lambda_scale = stiffness_scale(mesh, mat, job.length_scale);
+  const std::vector<const Material*> cell_mat = cell_materials(mesh, materials);
+  const double lambda_scale = stiffness_scale(mesh, cell_mat, job.length_scale);
   const double sigma = -s.shift_fraction * lambda_scale;
   const double lambda_spurious = s.spurious_factor * lambda_scale;
   out.sigma = sigma;
   Matrices mats;
-  out.total_mass = assemble(mesh, fixed, ties, L, job, sigma, lambda_spurious, mats);
+  out.total_mass =
+      assemble(mesh, fixed, ties, L, job, cell_mat, sigma, lambda_spurious, mats, out.total_volume);
   attach_near_null_space(mesh, L, job.length_scale, mats.K);
   out.assemble_seconds = seconds_since(t0);
   out.peak_after_assembly = peak_rss_bytes();
@@ -629,8 +637,26 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   return out;
 }
 
+// The materials as plain numbers for a broadcast: base E, nu, rho, then solid, E, nu, rho per
+// solid listed.
+std::vector<double> pack_materials(const SolidMaterials& m) {
+  std::vector<double> v{m.base.E, m.base.nu, m.base.rho};
+  for (const auto& [solid, mat] : m.by_solid)
+    v.insert(v.end(), {static_cast<double>(solid), mat.E, mat.nu, mat.rho});
+  return v;
+}
+
+SolidMaterials unpack_materials(const std::vector<double>& v) {
+  SolidMaterials m(Material{"", v[0], v[1], v[2]});
+  for (std::size_t i = 3; i + 3 < v.size(); i += 4)
+    m.by_solid.emplace_back(static_cast<std::int32_t>(v[i]),
+                            Material{"", v[i + 1], v[i + 2], v[i + 3]});
+  return m;
+}
+
 // Rank 0 sends what the others need; MPI_Bcast does not write the root's buffers.
-void send_job(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, JobParams job) {
+void send_job(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, JobParams job,
+              std::vector<double> materials) {
   int cmd = kSolve;
   broadcast_bytes(&cmd, sizeof cmd);
   broadcast_vector(const_cast<std::vector<Vec3>&>(mesh.nodes));
@@ -638,18 +664,23 @@ void send_job(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, Job
   broadcast_vector(const_cast<std::vector<std::int32_t>&>(mesh.cell_nodes));
   broadcast_vector(const_cast<std::vector<std::int32_t>&>(mesh.cell_edge_nodes));
   broadcast_bytes(const_cast<int*>(&mesh.order), sizeof mesh.order);
+  broadcast_vector(const_cast<std::vector<std::int32_t>&>(mesh.cell_solid));
   broadcast_vector(const_cast<std::vector<std::uint8_t>&>(fixed));
   broadcast_bytes(&job, sizeof job);
+  broadcast_vector(materials);
 }
 
-void receive_job(MixedMesh& mesh, std::vector<std::uint8_t>& fixed, JobParams& job) {
+void receive_job(MixedMesh& mesh, std::vector<std::uint8_t>& fixed, JobParams& job,
+                 std::vector<double>& materials) {
   broadcast_vector(mesh.nodes);
   broadcast_vector(mesh.cell_kind);
   broadcast_vector(mesh.cell_nodes);
   broadcast_vector(mesh.cell_edge_nodes);
   broadcast_bytes(&mesh.order, sizeof mesh.order);
+  broadcast_vector(mesh.cell_solid);
   broadcast_vector(fixed);
   broadcast_bytes(&job, sizeof job);
+  broadcast_vector(materials);
 }
 
 }  // namespace
@@ -660,13 +691,10 @@ ModalResult solve_modal_iterative(const MixedMesh& mesh, const ModalOptions& opt
   JobParams job;
   job.num_modes = options.num_modes;
   job.incompatible_hex = options.incompatible_hex;
-  job.E = options.material.E;
-  job.nu = options.material.nu;
-  job.rho = options.material.rho;
   job.length_scale = options.length_scale;
   job.settings = options.iterative;
-  if (mpi_size() > 1) send_job(mesh, fixed, job);
-  JobOutput o = solve_distributed(mesh, fixed, job);
+  if (mpi_size() > 1) send_job(mesh, fixed, job, pack_materials(options.material));
+  JobOutput o = solve_distributed(mesh, fixed, options.material, job);
 
   ModalResult r;
   r.num_free_dofs = o.num_free;
@@ -674,7 +702,7 @@ ModalResult solve_modal_iterative(const MixedMesh& mesh, const ModalOptions& opt
   r.num_cells = static_cast<long>(mesh.num_cells());
   r.num_nodes = static_cast<long>(mesh.nodes.size());
   r.total_mass = o.total_mass;
-  r.volume = o.total_mass / options.material.rho;
+  r.volume = o.total_volume;
   for (int d = 0; d < 3; ++d) r.free_mass[d] = o.free_mass[d];
   r.assemble_seconds = o.assemble_seconds;
   r.stiffness_nnz = o.stiffness_nnz;
@@ -728,9 +756,10 @@ int MpiSession::serve() {
     MixedMesh mesh;
     std::vector<std::uint8_t> fixed;
     JobParams job;
-    receive_job(mesh, fixed, job);
+    std::vector<double> materials;
+    receive_job(mesh, fixed, job, materials);
     try {
-      solve_distributed(mesh, fixed, job);
+      solve_distributed(mesh, fixed, unpack_materials(materials), job);
     } catch (const std::exception&) {
       // Rank 0 meets the same failure and reports it.
     }

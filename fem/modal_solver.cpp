@@ -4,6 +4,7 @@
 #include <Spectra/SymGEigsShiftSolver.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -454,10 +455,29 @@ ModalResult solve_modal_direct(const MixedMesh& mesh, const ModalOptions& option
   return out;
 }
 
+// A material given to a solid that the mesh does not have is a typo: an error naming the solids
+// there are.
+void check_material_solids(const MixedMesh& mesh, const SolidMaterials& mats) {
+  if (mats.by_solid.empty()) return;
+  std::vector<std::int32_t> solids = mesh.cell_solid;
+  std::sort(solids.begin(), solids.end());
+  solids.erase(std::unique(solids.begin(), solids.end()), solids.end());
+  for (const auto& [solid, m] : mats.by_solid) {
+    if (std::binary_search(solids.begin(), solids.end(), solid)) continue;
+    std::string have;
+    for (std::size_t i = 0; i < solids.size() && i < 20; ++i)
+      have += (i ? ", " : "") + std::to_string(solids[i]);
+    if (solids.size() > 20) have += ", ...";
+    throw Error("a material is given to solid " + std::to_string(solid) +
+                ", but the mesh has no such solid (its solids: " + have + ")");
+  }
+}
+
 }  // namespace
 
 ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
   validate(options.material);
+  check_material_solids(mesh, options.material);
   if (!(options.length_scale > 0) || !std::isfinite(options.length_scale))
     throw Error("length scale must be positive");
   if (mesh.num_cells() == 0) throw Error("the mesh has no volume cells");

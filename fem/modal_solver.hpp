@@ -77,7 +77,8 @@ inline constexpr long kAutoDirectMaxDofsOrder2 = 300000;
 SolverChoice solver_choice_from_option(const std::string& value);  // throws on a bad value
 
 struct ModalOptions {
-  Material material;
+  // The material of every cell, or per CAD solid (each listed solid must be in the mesh).
+  SolidMaterials material;
   std::vector<std::string> fix;  // --fix specs (boundary.hpp); empty = free-free
   int num_modes = 10;
   double length_scale = 1.0;  // mesh coordinates * length_scale = metres

@@ -1,14 +1,37 @@
 // Shared helpers for the fem tests: reference cells, random affine maps and distortions.
 #pragma once
 
+#include <sys/wait.h>
+
 #include <Eigen/Dense>
+#include <array>
+#include <cstdio>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "fem/assembly.hpp"
 #include "mesher/mesh/mixed_mesh.hpp"
 
 namespace hexfem::test {
+
+// A shell command's exit code and its stdout and stderr together.
+struct CliRun {
+  int code;
+  std::string out;
+};
+
+inline CliRun run_command(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  CliRun r{-1, ""};
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
 
 inline std::vector<Vec3> reference_corners(CellKind kind) {
   switch (kind) {

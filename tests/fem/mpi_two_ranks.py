@@ -12,6 +12,8 @@ by `mpirun -n 2 hexfem modal --solver iterative` (PETSc/SLEPc over two ranks):
     needs the Krylov-Schur fallback (the algorithm used is printed);
   - free-free, eight modes: six rigid-body modes below 1e-6 of the first elastic one, the two
     elastic ones within 1e-6 of direct;
+  - a bar of two solids, steel and aluminium (--material solid:2=aluminium), free-free: the
+    material of each rank's cells is its solid's (mass by hand, frequencies as direct);
   - a one-tet mesh on four ranks: one line naming the problem ("use at most 2 ranks"), exit 1.
 """
 import json
@@ -27,8 +29,8 @@ os.chdir(work)
 MPI = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-n"]
 
 
-def modal(args, ranks=None):
-    cmd = [hexfem, "modal", "cyl.msh", "--units", "mm", "--json"] + args
+def modal(args, ranks=None, mesh="cyl.msh"):
+    cmd = [hexfem, "modal", mesh, "--units", "mm", "--json"] + args
     if ranks:
         cmd = MPI + [str(ranks)] + cmd + ["--solver", "iterative"]
     else:
@@ -63,6 +65,37 @@ diff = max(abs(a - b) / b for a, b in zip(ft[6:], fd[6:]))
 print(f"free: rigid modes below {max(abs(f) for f in ft[:6]):.1e} Hz, f7 f8 {ft[6]:.3f} "
       f"{ft[7]:.3f} Hz, max rel diff {diff:.1e}")
 assert diff <= 1e-6, f"free-free elastic modes differ by {diff:.2e}"
+
+# 100 x 10 x 10 mm bar, 20 x 2 x 2 hexes; solid 1 at x < 50, solid 2 beyond (MSH 2.2 tags).
+nx, ny, nz = 20, 2, 2
+node = lambda i, j, k: 1 + i + (nx + 1) * (j + (ny + 1) * k)
+with open("bar2.msh", "w") as f:
+    f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n" % ((nx + 1) * (ny + 1) * (nz + 1)))
+    for k in range(nz + 1):
+        for j in range(ny + 1):
+            for i in range(nx + 1):
+                f.write("%d %g %g %g\n" % (node(i, j, k), 5 * i, 5 * j, 5 * k))
+    f.write("$EndNodes\n$Elements\n%d\n" % (nx * ny * nz))
+    e = 0
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                e += 1
+                c = [node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k)]
+                c += [n + (nx + 1) * (ny + 1) for n in c]
+                solid = 1 if i < nx // 2 else 2
+                f.write("%d 5 2 %d %d %s\n" % (e, solid, solid, " ".join(map(str, c))))
+    f.write("$EndElements\n")
+args = ["--free", "--modes", "8", "--material", "solid:2=aluminium"]
+direct = modal(args, mesh="bar2.msh")
+two = modal(args, ranks=2, mesh="bar2.msh")
+fd, ft = freqs(direct), freqs(two)
+mass = (7850 + 2700) * 5e-6  # each half 50 x 10 x 10 mm
+diff = max(abs(a - b) / b for a, b in zip(ft[6:], fd[6:]))
+print(f"steel|aluminium bar: mass {two['mass_kg']:.9f} kg (by hand {mass:.9f}), f7 f8 "
+      f"{ft[6]:.3f} {ft[7]:.3f} Hz on 2 ranks, max rel diff to direct {diff:.1e}")
+assert abs(two["mass_kg"] - mass) < 1e-9 * mass and abs(direct["mass_kg"] - mass) < 1e-9 * mass
+assert diff <= 1e-6, f"two-material bar: 2 ranks differ from direct by {diff:.2e}"
 
 with open("tet.msh", "w") as f:
     f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n"

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "fem_test_util.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 #include "mesher/mesh/quality.hpp"
 #include "mesher/mesh/structured_box.hpp"
@@ -20,21 +21,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int code;
-  std::string out;  // stdout and stderr together
-};
+using test::CliRun;
 
 CliRun run(const std::string& command) {
-  const std::string cmd = command + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  CliRun r{-1, ""};
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return test::run_command(command);
 }
 
 CliRun hexfem(const std::string& args) {

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -64,7 +65,7 @@ std::string tail(const std::filesystem::path& file, std::size_t lines) {
 }  // namespace
 
 void write_ccx_frequency_deck(std::ostream& out, const MixedMesh& mesh,
-                              const std::vector<std::uint8_t>& fixed, const Material& mat,
+                              const std::vector<std::uint8_t>& fixed, const SolidMaterials& mats,
                               int modes, double length_scale) {
   char buf[160];
   out << "*HEADING\nhexfem: modal reference deck (SI units)\n*NODE, NSET=NALL\n";
@@ -85,10 +86,36 @@ void write_ccx_frequency_deck(std::ostream& out, const MixedMesh& mesh,
       any = true;
       out << i / 3 + 1 << ", " << i % 3 + 1 << ", " << i % 3 + 1 << '\n';
     }
-  std::snprintf(buf, sizeof buf, "%.17g, %.17g\n", mat.E, mat.nu);
-  out << "*MATERIAL, NAME=MAT\n*ELASTIC\n" << buf;
-  std::snprintf(buf, sizeof buf, "%.17g\n", mat.rho);
-  out << "*DENSITY\n" << buf << "*SOLID SECTION, ELSET=EALL, MATERIAL=MAT\n";
+  // One material and section per set of cells: the solids listed in mats.by_solid each, the
+  // other cells (ELSET REST) the base material.
+  auto material = [&](const std::string& name, const Material& m, const std::string& elset) {
+    std::snprintf(buf, sizeof buf, "%.17g, %.17g\n", m.E, m.nu);
+    out << "*MATERIAL, NAME=" << name << "\n*ELASTIC\n" << buf;
+    std::snprintf(buf, sizeof buf, "%.17g\n", m.rho);
+    out << "*DENSITY\n"
+        << buf << "*SOLID SECTION, ELSET=" << elset << ", MATERIAL=" << name << "\n";
+  };
+  if (mats.by_solid.empty()) {
+    material("MAT", mats.base, "EALL");
+  } else {
+    std::vector<char> listed(mesh.num_cells(), 0);
+    for (const auto& [solid, m] : mats.by_solid) {
+      const std::string set = "SOLID" + std::to_string(solid);
+      out << "*ELSET, ELSET=" << set << "\n";
+      for (std::size_t c = 0; c < mesh.num_cells(); ++c)
+        if (mesh.cell_solid[c] == solid) {
+          out << c + 1 << "\n";
+          listed[c] = 1;
+        }
+      material("MAT" + std::to_string(solid), m, set);
+    }
+    if (std::find(listed.begin(), listed.end(), 0) != listed.end()) {
+      out << "*ELSET, ELSET=REST\n";
+      for (std::size_t c = 0; c < mesh.num_cells(); ++c)
+        if (!listed[c]) out << c + 1 << "\n";
+      material("MAT", mats.base, "REST");
+    }
+  }
   out << "*STEP\n*FREQUENCY\n" << modes << "\n*END STEP\n";
 }
 
@@ -126,13 +153,13 @@ CcxModalOutput parse_ccx_dat(std::istream& dat) {
 }
 
 CcxRun run_ccx_frequency(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
-                         const Material& mat, int modes, const std::filesystem::path& dir,
+                         const SolidMaterials& mats, int modes, const std::filesystem::path& dir,
                          const std::string& name, double length_scale, int threads) {
   std::filesystem::create_directories(dir);
   const std::filesystem::path inp = dir / (name + ".inp"), dat = dir / (name + ".dat"),
                               log = dir / (name + ".log");
   write_atomically(inp, false, [&](std::ostream& out) {
-    write_ccx_frequency_deck(out, mesh, fixed, mat, modes, length_scale);
+    write_ccx_frequency_deck(out, mesh, fixed, mats, modes, length_scale);
   });
   std::error_code ec;
   std::filesystem::remove(dat, ec);

@@ -17,9 +17,10 @@ namespace hexfem {
 
 // Deck in SI units (coordinates * length_scale): nodes, C3D8 / C3D6 / C3D4 elements (pyramids as
 // C3D8 with the apex repeated, CalculiX has no pyramid), one *BOUNDARY line per fixed DOF
-// (mask as select_fixed_dofs), the material and a *FREQUENCY step for `modes` eigenvalues.
+// (mask as select_fixed_dofs), the material (one per solid when given per solid) and a
+// *FREQUENCY step for `modes` eigenvalues.
 void write_ccx_frequency_deck(std::ostream& out, const MixedMesh& mesh,
-                              const std::vector<std::uint8_t>& fixed, const Material& mat,
+                              const std::vector<std::uint8_t>& fixed, const SolidMaterials& mats,
                               int modes, double length_scale = 1.0);
 
 struct CcxModalOutput {
@@ -44,7 +45,7 @@ struct CcxRun {
 // CCX_NPROC_EQUATION_SOLVER), and parses <dir>/<name>.dat. Throws hexfem::Error if ccx is not
 // found, fails, or writes no eigenvalues (the tail of its log is in the message).
 CcxRun run_ccx_frequency(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
-                         const Material& mat, int modes, const std::filesystem::path& dir,
+                         const SolidMaterials& mats, int modes, const std::filesystem::path& dir,
                          const std::string& name = "modal", double length_scale = 1.0,
                          int threads = 1);
 
