@@ -297,13 +297,23 @@ _TET10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]  # Abaqus nodes 
 _PYR_BASE_EDGES = [(0, 1), (1, 2), (2, 3), (3, 0)]  # C3D20 nodes 9..12; 17..20 are (i, apex)
 
 
+def ccx_real(v):
+    """v in at most 20 characters: ccx 2.20 reads a field of 20 and refuses a longer one
+    ("*ERROR reading *NODE"), as hexfem's own writer knows (put_inp_real)."""
+    text = repr(v)
+    digits = 16
+    while len(text) > 20 and digits > 1:
+        text = f"{v:.{digits}g}"
+        digits -= 1
+    return text
+
+
 def inp_with_formulations(src, dst, form):
     """Copy of an exported .inp with the cells of each kind written as form[kind] says (see
     above). New mid-edge nodes get ids above the largest one and one *EQUATION per component."""
     lines = open(src).read().split("\n")
-    xyz = {int(l.split(",")[0]): [float(v) for v in l.split(",")[1:4]]
-           for l in lines[lines.index("*NODE, NSET=NALL") + 1:] if l and l[0].isdigit()
-           and len(l.split(",")) == 4}
+    # The *NODE block only: a set's data line of four ids is not a node.
+    xyz = {i: list(p) for i, p in inp_nodes(src).items()}
     next_id = max(xyz) + 1
     mids = {}  # (a, b) sorted -> mid-edge node id
 
@@ -334,7 +344,7 @@ def inp_with_formulations(src, dst, form):
                 nodes_done = True
                 if mids:  # new nodes and their ties, before the sets (model data)
                     out.append("*NODE, NSET=NALL")
-                    out += [f"{i},{xyz[i][0]!r},{xyz[i][1]!r},{xyz[i][2]!r}"
+                    out += [f"{i}," + ",".join(ccx_real(v) for v in xyz[i])
                             for i in range(min(mids.values()), next_id)]
                     out.append("*EQUATION")
                     for (a, b), m in sorted(mids.items(), key=lambda kv: kv[1]):
