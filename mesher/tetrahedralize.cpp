@@ -133,8 +133,12 @@ bool read_all(int fd, void* data, std::size_t n) {
 // left: 20 of TetGen's 36 s on ANC101 at 1M vertices, for a mesh that differs only next to the
 // boundary (H_nbr 80.77 against 80.78 %, validation/volume.md). The steps and their order are
 // those of tetrahedralize() in TetGen 1.5.0's tetgen.cxx.
+// In the forked child only (run_tetgen_isolated), which ends with _exit: the mesh is never
+// destroyed. On an error TetGen's terminatetetgen() frees its memory and throws; a destructor run
+// by the unwinding would free it again, and glibc then aborts, or deadlocks on its own heap lock
+// (seen on 40mm_capot: the parent waited for the child's message for ever).
 void run_tetgen_stages(tetgenbehavior& b, tetgenio& in, tetgenio& out, bool recover_delaunay) {
-  tetgenmesh m;
+  tetgenmesh& m = *new tetgenmesh;  // NOLINT: freed by the child's exit, see above
   m.b = &b;
   m.in = &in;
   m.addin = nullptr;
@@ -165,7 +169,8 @@ static_assert(std::is_same_v<REAL, double>, "TetGen built with REAL = double");
 
 // Runs TetGen in a forked child. Debian's libtet 1.5.0 frees its memory twice when it reports an
 // error (terminatetetgen() frees, then the unwinding destructor frees again) and segfaults, so
-// an error inside TetGen cannot be caught in-process; the child's crash becomes an Error here.
+// an error inside TetGen cannot be caught in-process: the child keeps its mesh to its exit
+// (run_tetgen_stages), and a crash of the child still becomes an Error here.
 // The output comes back through a pipe straight into the result's arrays; after a complete
 // message the child is reaped later (its exit, releasing TetGen's memory, overlaps our work).
 TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recover_delaunay) {
@@ -178,8 +183,13 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recove
   if (pid < 0) throw Error("TetGen: cannot fork");
   if (pid == 0) {
     ::close(fd[0]);
+    // TetGen prints even with -Q on errors, and glibc reports the double free above on stderr
+    // ("free(): invalid pointer") before the child dies: the parent says what went wrong.
     const int devnull = ::open("/dev/null", O_WRONLY);
-    if (devnull >= 0) ::dup2(devnull, STDOUT_FILENO);  // TetGen prints even with -Q on errors
+    if (devnull >= 0) {
+      ::dup2(devnull, STDOUT_FILENO);
+      ::dup2(devnull, STDERR_FILENO);
+    }
     int code = 0;
     double seconds = 0;
     tetgenio out;
