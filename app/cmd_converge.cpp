@@ -103,9 +103,12 @@ int run(const ConvergeArgs& a) {
   // One bound for every row, or the rows' own (the mesher's retries may raise it for one h).
   const bool same_bound = std::all_of(curvature.begin(), curvature.end(),
                                       [&](int c) { return c == curvature.front(); });
-  const char* origin = a.modal.curvature < 0 ? " (the order-2 default, never finer than h/2; "
-                                               "--curvature 0 turns it off)"
-                                             : "";
+  // Not given: order 2 has a default bound; at order 1 any bound is the mesher's volume retry.
+  const char* origin = a.modal.curvature >= 0 ? ""
+                       : a.modal.order == 2
+                           ? " (the order-2 default, never finer than h/2; --curvature 0 turns it "
+                             "off)"
+                           : " (none asked: the mesher's, where the mesh was off the CAD volume)";
   if (graded.fraction > 0) std::printf("meshes   %s\n", graded.note().c_str());
   if (!curvature.empty() && same_bound && curvature.front() > 0)
     std::printf("meshes   curvature bound %d elements per turn on curved edges and faces%s\n",
