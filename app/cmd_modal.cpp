@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "app/ccx_deck.hpp"
 #include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
 #include "app/modal_cli.hpp"
@@ -42,6 +43,7 @@ struct Args {
   std::string units = "SI";
   bool json = false;
   std::string modes_out;
+  std::string ccx_deck;  // --ccx-deck JOB.inp (and JOB_mesh.inp)
   // CAD input only: mesh size (mm) and where to write the mesh.
   double h = 0;
   std::string mesh_out;
@@ -126,6 +128,14 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
   }
   if (!a.mesh_out.empty())
     check_output_file("--mesh-out", a.mesh_out, {"msh", "vtu", "inp"}, {a.mesh});
+  if (!a.ccx_deck.empty()) {
+    std::filesystem::path mesh_part = a.ccx_deck;
+    mesh_part.replace_filename(mesh_part.stem().string() + "_mesh.inp");
+    std::vector<std::string> inputs{a.mesh};
+    if (!a.mesh_out.empty()) inputs.push_back(a.mesh_out);
+    check_output_file("--ccx-deck", a.ccx_deck, {"inp"}, inputs);
+    check_output_file("--ccx-deck", mesh_part.string(), {"inp"}, inputs);
+  }
   if (!a.modes_out.empty()) {
     check_output_file("--modes-out", a.modes_out, {"vtu"}, {a.mesh});
     if (!a.mesh_out.empty() && lower_extension(a.mesh_out) == "vtu")
@@ -199,6 +209,12 @@ int run(const Args& a) {
                        " rigid-body mode(s) left: the fixed DOFs do not hold the part in every "
                        "direction");
   if (!a.modes_out.empty()) write_mode_shapes_vtu(mesh, r, a.modes_out);
+  std::vector<std::filesystem::path> deck_files;
+  if (!a.ccx_deck.empty()) {
+    ModalOptions as_solved = opt;
+    as_solved.length_scale = shown.scale;  // a CAD part is meshed in mm
+    deck_files = write_ccx_deck(mesh, as_solved, select_fixed_dofs(mesh, a.modal.fix), a.ccx_deck);
+  }
 
   std::size_t count[kNumCellKinds] = {};
   for (CellKind k : mesh.cell_kind) ++count[static_cast<int>(k)];
@@ -236,6 +252,7 @@ int run(const Args& a) {
     j["fix"] = a.modal.fix;
     j["warnings"] = warnings;
     if (!a.modes_out.empty()) j["modes_out"] = a.modes_out;
+    for (const auto& f : deck_files) j["ccx_deck"].push_back(f.string());
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -315,6 +332,10 @@ int run(const Args& a) {
               100 * sum[0], 100 * sum[1], 100 * sum[2], 100 * r.free_mass[0] / r.total_mass,
               100 * r.free_mass[1] / r.total_mass, 100 * r.free_mass[2] / r.total_mass);
   if (!a.modes_out.empty()) std::printf("\nmode shapes written to %s\n", a.modes_out.c_str());
+  if (!deck_files.empty())
+    std::printf("CalculiX deck written to %s (mesh in %s): run `ccx %s` in its folder\n",
+                deck_files[0].c_str(), deck_files[1].filename().c_str(),
+                deck_files[0].stem().c_str());
   return 0;
 }
 
@@ -333,6 +354,9 @@ RegisterCommand reg{
        sub.add_option("--units", a->units, "length unit of the mesh: SI (m, default) or mm");
        sub.add_flag("--json", a->json, "print JSON on stdout");
        sub.add_option("--modes-out", a->modes_out, "write mode shapes to this .vtu (ParaView)");
+       sub.add_option("--ccx-deck", a->ccx_deck,
+                      "also write this analysis as a CalculiX deck JOB.inp (+ JOB_mesh.inp): "
+                      "materials, fixed DOFs, *FREQUENCY; `ccx JOB` checks the frequencies");
        return [a] { return run(*a); };
      }}};
 

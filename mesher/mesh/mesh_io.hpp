@@ -32,6 +32,7 @@ struct MeshWriteOptions {
   MeshWriteOptions(bool binary_msh = false) : binary(binary_msh) {}  // NOLINT: {binary} reads well
   bool binary = false;                                               // .msh: MSH 4.1 binary
   std::vector<NodeTie> inp_ties;  // .inp: written as *EQUATION; other formats cannot carry them
+  bool inp_incompatible_hex8 = false;  // .inp, order 1: hexes as C3D8I instead of C3D8
 };
 void write_msh(const MixedMesh& mesh, const std::filesystem::path& path,
                const MeshWriteOptions& options = {});
@@ -57,9 +58,10 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path,
 // SOLID_<id>; NSETs NALL and FACE_<id> for each CAD face with boundary faces; when there are NC
 // quad faces, ELSET NC_ELEMENTS (the cells with one) and the element-face SURFACE NONCONFORMAL.
 // `ties` go out as *EQUATION (the tied node's DOF first, so CalculiX eliminates it). Mesh and
-// constraints only (no material/step), so a deck can *INCLUDE it.
+// constraints only (no material/step), so a deck can *INCLUDE it. incompatible_hex8: order-1
+// hexes as C3D8I (incompatible modes, like hexfem's default hex8) instead of C3D8.
 void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
-               const std::vector<NodeTie>& ties = {});
+               const std::vector<NodeTie>& ties = {}, bool incompatible_hex8 = false);
 
 // Writes by extension: .msh (options.binary), .vtu, .inp. Unknown extension: hexfem::Error.
 void write_mesh(const MixedMesh& mesh, const std::filesystem::path& path,

@@ -296,7 +296,7 @@ void write_inp_ties(const std::vector<NodeTie>& ties, std::string& s) {
 }  // namespace
 
 void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
-               const std::vector<NodeTie>& ties) {
+               const std::vector<NodeTie>& ties, bool incompatible_hex8) {
   std::string s;
   s.reserve(80 * (mesh.nodes.size() + mesh.num_cells()));
   s += "** hexfem mixed mesh: node i -> i+1, cell c -> c+1\n";
@@ -316,7 +316,11 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
   };
   const bool o2 = mesh.order == 2;
   const KindOut kinds[] = {
-      {CellKind::Hex8, o2 ? "C3D20" : "C3D8", o2 ? "E_HEX20" : "E_HEX8"},
+      {CellKind::Hex8,
+       o2                  ? "C3D20"
+       : incompatible_hex8 ? "C3D8I"
+                           : "C3D8",
+       o2 ? "E_HEX20" : "E_HEX8"},
       {CellKind::Wedge6, o2 ? "C3D15" : "C3D6", o2 ? "E_WEDGE15" : "E_WEDGE6"},
       {CellKind::Pyramid5, o2 ? "C3D20" : "C3D8", o2 ? "E_PYRAMID13" : "E_PYRAMID5"},
       {CellKind::Tet4, o2 ? "C3D10" : "C3D4", o2 ? "E_TET10" : "E_TET4"}};
@@ -394,7 +398,7 @@ void write_mesh(const MixedMesh& mesh, const std::filesystem::path& path,
   const std::string ext = lower_extension(path);
   if (ext == "msh") return write_msh(mesh, path, options);
   if (ext == "vtu") return write_vtu(mesh, path);
-  if (ext == "inp") return write_inp(mesh, path, options.inp_ties);
+  if (ext == "inp") return write_inp(mesh, path, options.inp_ties, options.inp_incompatible_hex8);
   throw Error("unknown output format '." + ext + "' for '" + path.string() +
               "' (use .msh, .vtu or .inp)");
 }

@@ -1,0 +1,28 @@
+// `hexfem modal --ccx-deck JOB.inp`: the same modal analysis as a CalculiX deck, so a user can
+// check hexfem's frequencies with an independent solver in one command (`ccx JOB`).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "fem/modal_solver.hpp"
+#include "mesher/mesh/mixed_mesh.hpp"
+
+namespace hexfem {
+
+// Writes JOB_mesh.inp (write_inp: nodes, elements, sets, the NC faces' ties as *EQUATION, hexes
+// as C3D8I when the solve used incompatible modes) and JOB.inp, which includes it and adds one
+// *MATERIAL and *SOLID SECTION per solid (options.material), a *BOUNDARY line per fixed node
+// (`fixed`: 3 per node, as select_fixed_dofs) and a *FREQUENCY step for options.num_modes.
+// Units: the mesh's lengths, newtons and seconds (mm, N, t for a mesh in mm: E in MPa), so ccx
+// prints Hz. The formulations that differ from hexfem's (CalculiX has no pyramid, integrates
+// wedges and linear tets with fewer points): validation/crosscheck.md. Each file is written to a
+// temporary name and renamed. Returns the two paths, deck first.
+std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,
+                                                  const ModalOptions& options,
+                                                  const std::vector<std::uint8_t>& fixed,
+                                                  const std::filesystem::path& deck);
+
+}  // namespace hexfem
