@@ -46,6 +46,10 @@ void ensure_petsc() {
     char** argv = args;
     // No signal handler: a crash elsewhere in hexfem must not be reported as PETSc's.
     PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
+    // Without mpirun, OpenMPI 4 starts a singleton by forking an `orted` helper for every run;
+    // hexfem never spawns processes, so the isolated singleton (no helper) is enough. A user's
+    // own setting wins; other MPIs ignore the variable.
+    if (!under_mpi_launcher()) ::setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
     if (SlepcInitialize(&argc, &argv, nullptr, nullptr) != 0)
       throw Error("PETSc/SLEPc could not be initialized (MPI missing or misconfigured?)");
     g_initialized = true;
