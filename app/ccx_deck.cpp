@@ -6,8 +6,10 @@
 #include <ostream>
 #include <string>
 
+#include "fem/element.hpp"
 #include "fem/nc_ties.hpp"
 #include "mesher/mesh/atomic_file.hpp"
+#include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 
 namespace hexfem {
@@ -24,6 +26,55 @@ std::string ccx_number(double v) {
 }
 
 }  // namespace
+
+long pyramids_ccx_refuses(const MixedMesh& mesh) {
+  if (mesh.order != 2) return 0;
+  static const ReferenceElement hex20 = tabulate(CellKind::Hex8, 2, hex20_rule());
+  const auto& hex_edges = edges_of(CellKind::Hex8);
+  const auto& pyr_edges = edges_of(CellKind::Pyramid5);
+  long count = 0;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
+    if (mesh.cell_kind[c] != CellKind::Pyramid5) continue;
+    const std::int32_t* v = mesh.cell(c);
+    const std::int32_t* mid = mesh.cell_edges(c);
+    // Hex corners 0-3 are the base, 4-7 the apex; a hex edge's node is the pyramid's on the
+    // same edge, the apex on the collapsed top face.
+    auto corner = [&](int i) { return i < 4 ? i : 4; };
+    Vec3 x[20];
+    for (int i = 0; i < 8; ++i) x[i] = mesh.nodes[v[corner(i)]];
+    for (int e = 0; e < 12; ++e) {
+      const int a = corner(hex_edges[e][0]), b = corner(hex_edges[e][1]);
+      x[8 + e] = mesh.nodes[v[4]];
+      for (int k = 0; k < num_edges(CellKind::Pyramid5) && a != b; ++k)
+        if ((pyr_edges[k][0] == a && pyr_edges[k][1] == b) ||
+            (pyr_edges[k][0] == b && pyr_edges[k][1] == a))
+          x[8 + e] = mesh.nodes[mid[k]];
+    }
+    for (const ShapeValues& sv : hex20.shape) {
+      double J[3][3] = {};
+      for (int i = 0; i < sv.n; ++i)
+        for (int a = 0; a < 3; ++a)
+          for (int d = 0; d < 3; ++d) J[a][d] += x[i][a] * sv.dN[i][d];
+      const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+                         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+      if (!(det > 0)) {
+        ++count;
+        break;
+      }
+    }
+  }
+  return count;
+}
+
+std::string ccx_pyramid_warning(const MixedMesh& mesh, const std::filesystem::path& inp) {
+  const long n = pyramids_ccx_refuses(mesh);
+  if (n == 0) return "";
+  return std::to_string(n) + " pyramid(s) in " + inp.string() +
+         " are inside out as CalculiX's collapsed C3D20 at its integration points (hexfem's "
+         "pyramid13 is valid there): ccx will refuse the file; --no-pyramids meshes without "
+         "them (their NC faces tied)";
+}
 
 std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,
                                                   const ModalOptions& options,

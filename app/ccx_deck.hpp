@@ -20,6 +20,15 @@ namespace hexfem {
 // prints Hz. The formulations that differ from hexfem's (CalculiX has no pyramid, integrates
 // wedges and linear tets with fewer points): validation/crosscheck.md. Each file is written to a
 // temporary name and renamed. Returns the two paths, deck first.
+// CalculiX has no pyramid: an order-2 pyramid goes out as a C3D20 collapsed onto its apex
+// (write_inp). How many of the mesh's pyramids that map turns inside out at C3D20's 3x3x3 Gauss
+// points, where ccx checks it ("nonpositive jacobian": it refuses the whole deck), although
+// hexfem's own pyramid13 is valid there. 0 at order 1 (C3D8 with the apex repeated).
+long pyramids_ccx_refuses(const MixedMesh& mesh);
+
+// The warning for an .inp with such pyramids ("" when none), naming the way out.
+std::string ccx_pyramid_warning(const MixedMesh& mesh, const std::filesystem::path& inp);
+
 std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,
                                                   const ModalOptions& options,
                                                   const std::vector<std::uint8_t>& fixed,

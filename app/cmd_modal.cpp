@@ -214,6 +214,8 @@ int run(const Args& a) {
     ModalOptions as_solved = opt;
     as_solved.length_scale = shown.scale;  // a CAD part is meshed in mm
     deck_files = write_ccx_deck(mesh, as_solved, select_fixed_dofs(mesh, a.modal.fix), a.ccx_deck);
+    const std::string w = ccx_pyramid_warning(mesh, deck_files[1]);
+    if (!w.empty()) warnings.push_back(w);
   }
 
   std::size_t count[kNumCellKinds] = {};

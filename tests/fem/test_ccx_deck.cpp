@@ -10,7 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "app/ccx_deck.hpp"
+#include "fem/element.hpp"
 #include "fem_test_util.hpp"
+#include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/mesh_io.hpp"
 #include "mesher/mesh/structured_box.hpp"
 #include "tests/support/ccx_reference.hpp"
@@ -103,6 +106,55 @@ TEST(CcxDeck, ADeckThatIsNotInpIsAOneLineError) {
   EXPECT_EQ(r.out.rfind("hexfem: error: --ccx-deck", 0), 0u) << r.out;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
   EXPECT_FALSE(fs::exists(dir / "job_mesh.inp"));
+}
+
+// A pyramid13 of hexfem's ANC101 mesh at order 2 (h = diagonal / 20, curved on the CAD), valid
+// for hexfem; `straight`: its mid-edge nodes at the edges' midpoints instead.
+MixedMesh anc101_pyramid(bool straight) {
+  MixedMesh mesh;
+  mesh.nodes = {{164.49092622462194, 178.25, 153.81973275655264},
+                {159.43984999572285, 174.82658854684746, 151.88465225622102},
+                {152.52260821907103, 175.8294518337895, 151.94082269454023},
+                {155.00000000000009, 178.25, 155.0},
+                {157.58847602213726, 175.79064256361912, 145.82179907574337},
+                // Mid-edge nodes in edges_of(Pyramid5) order: 01 03 04 12 14 23 24 34.
+                {161.9653881101724, 176.53829427342373, 152.8521925063868},
+                {159.78201608548042, 178.25, 154.70380114056616},
+                {161.0397011233796, 177.02032128180957, 149.820765916148},
+                {156.1019275177057, 176.16053654327922, 151.91273747538062},
+                {158.54706804137524, 175.37180653790566, 148.8532256659822},
+                {153.76130410953556, 177.03972591689475, 153.4704113472701},
+                {155.05883423343593, 176.23977464076754, 148.8813108851418},
+                {156.29423801106867, 177.02032128180957, 150.41089953787167}};
+  mesh.add_cell(CellKind::Pyramid5, {0, 1, 2, 3, 4});
+  mesh.order = 2;
+  mesh.cell_edge_nodes.assign(kMaxCellEdges, -1);
+  for (int e = 0; e < 8; ++e) {
+    mesh.cell_edge_nodes[e] = 5 + e;
+    if (!straight) continue;
+    const auto& ed = edges_of(CellKind::Pyramid5)[e];
+    for (int d = 0; d < 3; ++d)
+      mesh.nodes[5 + e][d] = (mesh.nodes[ed[0]][d] + mesh.nodes[ed[1]][d]) / 2;
+  }
+  return mesh;
+}
+
+TEST(CcxDeck, APyramidCalculixWouldRefuseIsCounted) {
+  for (bool straight : {false, true}) {
+    const MixedMesh mesh = anc101_pyramid(straight);
+    EXPECT_GT(element_jacobian_ratio(mesh, 0), 0.0) << "hexfem's pyramid13 is valid";
+    EXPECT_EQ(pyramids_ccx_refuses(mesh), straight ? 0 : 1);
+    // ccx itself, on the deck: it refuses the curved one and solves the straight one.
+    const fs::path dir = work_dir(straight ? "pyramid_straight" : "pyramid_curved");
+    ModalOptions opt;
+    opt.material = Material{"steel", 210e9, 0.3, 7850};
+    opt.num_modes = 3;
+    opt.length_scale = 1e-3;
+    write_ccx_deck(mesh, opt, {}, dir / "job.inp");
+    test::run_command("cd " + dir.string() + " && OMP_NUM_THREADS=1 ccx job > ccx.log");
+    const bool refused = text_of(dir / "ccx.log").find("nonpositive jacobian") != std::string::npos;
+    EXPECT_EQ(refused, !straight) << text_of(dir / "ccx.log");
+  }
 }
 
 }  // namespace
