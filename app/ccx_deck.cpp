@@ -28,11 +28,16 @@ std::string ccx_number(double v) {
 }  // namespace
 
 long pyramids_ccx_refuses(const MixedMesh& mesh) {
-  if (mesh.order != 2) return 0;
+  const std::vector<char> mask = pyramids_ccx_refuses_mask(mesh);
+  return static_cast<long>(std::count(mask.begin(), mask.end(), 1));
+}
+
+std::vector<char> pyramids_ccx_refuses_mask(const MixedMesh& mesh) {
+  std::vector<char> mask;
+  if (mesh.order != 2) return mask;
   static const ReferenceElement hex20 = tabulate(CellKind::Hex8, 2, hex20_rule());
   const auto& hex_edges = edges_of(CellKind::Hex8);
   const auto& pyr_edges = edges_of(CellKind::Pyramid5);
-  long count = 0;
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
     if (mesh.cell_kind[c] != CellKind::Pyramid5) continue;
     const std::int32_t* v = mesh.cell(c);
@@ -59,21 +64,22 @@ long pyramids_ccx_refuses(const MixedMesh& mesh) {
                          J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
                          J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
       if (!(det > 0)) {
-        ++count;
+        if (mask.empty()) mask.assign(mesh.num_cells(), 0);
+        mask[c] = 1;
         break;
       }
     }
   }
-  return count;
+  return mask;
 }
 
 std::string ccx_pyramid_warning(const MixedMesh& mesh, const std::filesystem::path& inp) {
   const long n = pyramids_ccx_refuses(mesh);
   if (n == 0) return "";
   return std::to_string(n) + " pyramid(s) in " + inp.string() +
-         " are inside out as CalculiX's collapsed C3D20 at its integration points (hexfem's "
-         "pyramid13 is valid there): ccx will refuse the file; --no-pyramids meshes without "
-         "them (their NC faces tied)";
+         " are written as C3D20R (reduced integration): as CalculiX's collapsed C3D20 they are "
+         "inside out at its integration points, although hexfem's pyramid13 is valid (ccx "
+         "would refuse the file); --no-pyramids meshes without pyramids";
 }
 
 std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,
@@ -83,7 +89,7 @@ std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,
   std::filesystem::path mesh_file = deck;
   mesh_file.replace_filename(deck.stem().string() + "_mesh.inp");
   write_inp(mesh, mesh_file, node_tie_list(nc_face_ties(mesh, fixed)),
-            mesh.order == 1 && options.incompatible_hex);
+            mesh.order == 1 && options.incompatible_hex, pyramids_ccx_refuses_mask(mesh));
 
   // A consistent system in the mesh's length unit L (s metres), newtons and seconds: stress in
   // N/L^2, mass in N s^2/L, so E' = E s^2 and rho' = rho s^4 (mm: MPa and t/mm^3).

@@ -13,8 +13,9 @@
 namespace hexfem {
 
 // Writes JOB_mesh.inp (write_inp: nodes, elements, sets, the NC faces' ties as *EQUATION, hexes
-// as C3D8I when the solve used incompatible modes) and JOB.inp, which includes it and adds one
-// *MATERIAL and *SOLID SECTION per solid (options.material), a *BOUNDARY line per fixed node
+// as C3D8I when the solve used incompatible modes, pyramids ccx would refuse as C3D20R) and
+// JOB.inp, which includes it and adds one *MATERIAL and *SOLID SECTION per solid
+// (options.material), a *BOUNDARY line per fixed node
 // (`fixed`: 3 per node, as select_fixed_dofs) and a *FREQUENCY step for options.num_modes.
 // Units: the mesh's lengths, newtons and seconds (mm, N, t for a mesh in mm: E in MPa), so ccx
 // prints Hz. The formulations that differ from hexfem's (CalculiX has no pyramid, integrates
@@ -25,8 +26,11 @@ namespace hexfem {
 // points, where ccx checks it ("nonpositive jacobian": it refuses the whole deck), although
 // hexfem's own pyramid13 is valid there. 0 at order 1 (C3D8 with the apex repeated).
 long pyramids_ccx_refuses(const MixedMesh& mesh);
+// The same per cell (1: such a pyramid), for write_inp's reduced_pyramids: they go out as C3D20R,
+// whose 2x2x2 points ccx accepts; empty when there is none.
+std::vector<char> pyramids_ccx_refuses_mask(const MixedMesh& mesh);
 
-// The warning for an .inp with such pyramids ("" when none), naming the way out.
+// The note for an .inp with such pyramids, written as C3D20R ("" when none).
 std::string ccx_pyramid_warning(const MixedMesh& mesh, const std::filesystem::path& inp);
 
 std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,

@@ -5,7 +5,6 @@
 #include <cstdio>
 
 #include "app/ccx_deck.hpp"
-#include "app/ccx_deck.hpp"
 #include "app/cli_checks.hpp"
 #include "fem/boundary.hpp"
 #include "fem/element.hpp"
@@ -90,9 +89,10 @@ MeshWriteOptions mesh_write_options(const MixedMesh& mesh, const std::filesystem
                                     bool binary, std::vector<std::string>* warnings) {
   MeshWriteOptions o;
   o.binary = binary;
-  if (lower_extension(path) == "inp" && warnings) {
+  if (lower_extension(path) == "inp") {
+    o.inp_reduced_pyramids = pyramids_ccx_refuses_mask(mesh);
     const std::string w = ccx_pyramid_warning(mesh, path);
-    if (!w.empty()) warnings->push_back(w);
+    if (!w.empty() && warnings) warnings->push_back(w);
   }
   if (mesh.order != 2 || mesh.nc_cell.empty()) return o;
   const NodeTies ties = nc_face_ties(mesh);

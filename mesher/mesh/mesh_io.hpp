@@ -33,6 +33,9 @@ struct MeshWriteOptions {
   bool binary = false;                                               // .msh: MSH 4.1 binary
   std::vector<NodeTie> inp_ties;  // .inp: written as *EQUATION; other formats cannot carry them
   bool inp_incompatible_hex8 = false;  // .inp, order 1: hexes as C3D8I instead of C3D8
+  // .inp, order 2: per cell, pyramids written as C3D20R instead of C3D20 (ones CalculiX would
+  // find inside out as a collapsed C3D20; app/ccx_deck.hpp finds them).
+  std::vector<char> inp_reduced_pyramids;
 };
 void write_msh(const MixedMesh& mesh, const std::filesystem::path& path,
                const MeshWriteOptions& options = {});
@@ -59,9 +62,11 @@ void write_vtu(const MixedMesh& mesh, const std::filesystem::path& path,
 // quad faces, ELSET NC_ELEMENTS (the cells with one) and the element-face SURFACE NONCONFORMAL.
 // `ties` go out as *EQUATION (the tied node's DOF first, so CalculiX eliminates it). Mesh and
 // constraints only (no material/step), so a deck can *INCLUDE it. incompatible_hex8: order-1
-// hexes as C3D8I (incompatible modes, like hexfem's default hex8) instead of C3D8.
+// hexes as C3D8I (incompatible modes, like hexfem's default hex8) instead of C3D8;
+// reduced_pyramids (per cell, order 2): those pyramids as C3D20R, ELSET E_PYRAMID13R.
 void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
-               const std::vector<NodeTie>& ties = {}, bool incompatible_hex8 = false);
+               const std::vector<NodeTie>& ties = {}, bool incompatible_hex8 = false,
+               const std::vector<char>& reduced_pyramids = {});
 
 // Writes by extension: .msh (options.binary), .vtu, .inp. Unknown extension: hexfem::Error.
 void write_mesh(const MixedMesh& mesh, const std::filesystem::path& path,

@@ -296,7 +296,8 @@ void write_inp_ties(const std::vector<NodeTie>& ties, std::string& s) {
 }  // namespace
 
 void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
-               const std::vector<NodeTie>& ties, bool incompatible_hex8) {
+               const std::vector<NodeTie>& ties, bool incompatible_hex8,
+               const std::vector<char>& reduced_pyramids) {
   std::string s;
   s.reserve(80 * (mesh.nodes.size() + mesh.num_cells()));
   s += "** hexfem mixed mesh: node i -> i+1, cell c -> c+1\n";
@@ -313,8 +314,12 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
     CellKind kind;
     const char* type;
     const char* elset;
+    bool reduced = false;  // the pyramids flagged in reduced_pyramids, and only those
   };
   const bool o2 = mesh.order == 2;
+  auto reduced = [&](std::size_t c) {
+    return o2 && c < reduced_pyramids.size() && reduced_pyramids[c];
+  };
   const KindOut kinds[] = {
       {CellKind::Hex8,
        o2                  ? "C3D20"
@@ -323,19 +328,24 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
        o2 ? "E_HEX20" : "E_HEX8"},
       {CellKind::Wedge6, o2 ? "C3D15" : "C3D6", o2 ? "E_WEDGE15" : "E_WEDGE6"},
       {CellKind::Pyramid5, o2 ? "C3D20" : "C3D8", o2 ? "E_PYRAMID13" : "E_PYRAMID5"},
+      {CellKind::Pyramid5, "C3D20R", "E_PYRAMID13R", true},
       {CellKind::Tet4, o2 ? "C3D10" : "C3D4", o2 ? "E_TET10" : "E_TET4"}};
   std::vector<std::string> used_elsets;
   for (const KindOut& k : kinds) {
     bool any = false;
     for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
       if (mesh.cell_kind[c] != k.kind) continue;
+      if (k.kind == CellKind::Pyramid5 && reduced(c) != k.reduced) continue;
       if (!any) {
         if (k.kind == CellKind::Pyramid5 && !o2)
           s += "** CalculiX has no pyramid: each pyramid is a C3D8 with the apex repeated "
                "(nodes 1 2 3 4 5 5 5 5)\n";
-        if (k.kind == CellKind::Pyramid5 && o2)
+        if (k.kind == CellKind::Pyramid5 && o2 && !k.reduced)
           s += "** CalculiX has no pyramid: each pyramid13 is a C3D20 collapsed onto its apex "
                "(corners 1 2 3 4 5 5 5 5, the top edges' mid nodes at the apex too)\n";
+        if (k.reduced)
+          s += "** These pyramids, collapsed C3D20 too, would be inside out at C3D20's 3x3x3 "
+               "points (ccx refuses them): C3D20R, whose 2x2x2 points they are valid at\n";
         s += std::string("*ELEMENT, TYPE=") + k.type + ", ELSET=" + k.elset + "\n";
         used_elsets.push_back(k.elset);
         any = true;
@@ -398,7 +408,9 @@ void write_mesh(const MixedMesh& mesh, const std::filesystem::path& path,
   const std::string ext = lower_extension(path);
   if (ext == "msh") return write_msh(mesh, path, options);
   if (ext == "vtu") return write_vtu(mesh, path);
-  if (ext == "inp") return write_inp(mesh, path, options.inp_ties, options.inp_incompatible_hex8);
+  if (ext == "inp")
+    return write_inp(mesh, path, options.inp_ties, options.inp_incompatible_hex8,
+                     options.inp_reduced_pyramids);
   throw Error("unknown output format '." + ext + "' for '" + path.string() +
               "' (use .msh, .vtu or .inp)");
 }

@@ -139,21 +139,31 @@ MixedMesh anc101_pyramid(bool straight) {
   return mesh;
 }
 
-TEST(CcxDeck, APyramidCalculixWouldRefuseIsCounted) {
+TEST(CcxDeck, APyramidCalculixWouldRefuseGoesOutAsC3D20R) {
   for (bool straight : {false, true}) {
     const MixedMesh mesh = anc101_pyramid(straight);
     EXPECT_GT(element_jacobian_ratio(mesh, 0), 0.0) << "hexfem's pyramid13 is valid";
     EXPECT_EQ(pyramids_ccx_refuses(mesh), straight ? 0 : 1);
-    // ccx itself, on the deck: it refuses the curved one and solves the straight one.
     const fs::path dir = work_dir(straight ? "pyramid_straight" : "pyramid_curved");
     ModalOptions opt;
     opt.material = Material{"steel", 210e9, 0.3, 7850};
     opt.num_modes = 3;
     opt.length_scale = 1e-3;
     write_ccx_deck(mesh, opt, {}, dir / "job.inp");
-    test::run_command("cd " + dir.string() + " && OMP_NUM_THREADS=1 ccx job > ccx.log");
-    const bool refused = text_of(dir / "ccx.log").find("nonpositive jacobian") != std::string::npos;
-    EXPECT_EQ(refused, !straight) << text_of(dir / "ccx.log");
+    // ccx itself: as the plain collapsed C3D20 it refuses the curved pyramid, not the straight
+    // one; the deck (C3D20R where needed) it reads either way.
+    write_inp(mesh, dir / "plain_mesh.inp");
+    std::string plain = text_of(dir / "job.inp");
+    plain.replace(plain.find("job_mesh.inp"), 12, "plain_mesh.inp");
+    std::ofstream(dir / "plain.inp") << plain;
+    const auto ccx_refuses = [&](const std::string& job) {
+      test::run_command("cd " + dir.string() + " && OMP_NUM_THREADS=1 ccx " + job + " > " + job +
+                        ".log");
+      return text_of(dir / (job + ".log")).find("nonpositive jacobian") != std::string::npos;
+    };
+    EXPECT_EQ(ccx_refuses("plain"), !straight);
+    EXPECT_FALSE(ccx_refuses("job")) << text_of(dir / "job.log");
+    EXPECT_EQ(text_of(dir / "job_mesh.inp").find("TYPE=C3D20R") != std::string::npos, !straight);
   }
 }
 
