@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <limits>
 #include <ostream>
 #include <string>
 
@@ -25,17 +26,34 @@ std::string ccx_number(double v) {
   return std::string(buf, r.ptr);
 }
 
+// The smallest det J of the 20-node hex x at the points of ref.
+double min_det(const ReferenceElement& ref, const Vec3* x) {
+  double lo = std::numeric_limits<double>::infinity();
+  for (const ShapeValues& sv : ref.shape) {
+    double J[3][3] = {};
+    for (int i = 0; i < sv.n; ++i)
+      for (int a = 0; a < 3; ++a)
+        for (int d = 0; d < 3; ++d) J[a][d] += x[i][a] * sv.dN[i][d];
+    lo = std::min(lo, J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+                          J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                          J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]));
+  }
+  return lo;
+}
+
 }  // namespace
 
 long pyramids_ccx_refuses(const MixedMesh& mesh) {
   const std::vector<char> mask = pyramids_ccx_refuses_mask(mesh);
-  return static_cast<long>(std::count(mask.begin(), mask.end(), 1));
+  return static_cast<long>(mask.size() - std::count(mask.begin(), mask.end(), 0));
 }
 
 std::vector<char> pyramids_ccx_refuses_mask(const MixedMesh& mesh) {
   std::vector<char> mask;
   if (mesh.order != 2) return mask;
-  static const ReferenceElement hex20 = tabulate(CellKind::Hex8, 2, hex20_rule());
+  // C3D20's 3x3x3 Gauss points, and C3D20R's 2x2x2.
+  static const ReferenceElement full = tabulate(CellKind::Hex8, 2, hex20_rule());
+  static const ReferenceElement reduced = tabulate(CellKind::Hex8, 2, hex8_rule());
   const auto& hex_edges = edges_of(CellKind::Hex8);
   const auto& pyr_edges = edges_of(CellKind::Pyramid5);
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
@@ -55,31 +73,25 @@ std::vector<char> pyramids_ccx_refuses_mask(const MixedMesh& mesh) {
             (pyr_edges[k][0] == b && pyr_edges[k][1] == a))
           x[8 + e] = mesh.nodes[mid[k]];
     }
-    for (const ShapeValues& sv : hex20.shape) {
-      double J[3][3] = {};
-      for (int i = 0; i < sv.n; ++i)
-        for (int a = 0; a < 3; ++a)
-          for (int d = 0; d < 3; ++d) J[a][d] += x[i][a] * sv.dN[i][d];
-      const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
-                         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-                         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
-      if (!(det > 0)) {
-        if (mask.empty()) mask.assign(mesh.num_cells(), 0);
-        mask[c] = 1;
-        break;
-      }
-    }
+    if (min_det(full, x) > 0) continue;
+    if (mask.empty()) mask.assign(mesh.num_cells(), 0);
+    mask[c] = min_det(reduced, x) > 0 ? 1 : 2;
   }
   return mask;
 }
 
 std::string ccx_pyramid_warning(const MixedMesh& mesh, const std::filesystem::path& inp) {
-  const long n = pyramids_ccx_refuses(mesh);
+  const std::vector<char> mask = pyramids_ccx_refuses_mask(mesh);
+  const long n = static_cast<long>(mask.size() - std::count(mask.begin(), mask.end(), 0));
   if (n == 0) return "";
+  const long still = static_cast<long>(std::count(mask.begin(), mask.end(), 2));
   return std::to_string(n) + " pyramid(s) in " + inp.string() +
          " are written as C3D20R (reduced integration): as CalculiX's collapsed C3D20 they are "
-         "inside out at its integration points, although hexfem's pyramid13 is valid (ccx "
-         "would refuse the file); --no-pyramids meshes without pyramids";
+         "inside out at its integration points, although hexfem's pyramid13 is valid" +
+         (still ? " (" + std::to_string(still) +
+                      " of them at C3D20R's points too: ccx will refuse the file)"
+                : "") +
+         "; --no-pyramids meshes without pyramids";
 }
 
 std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,

@@ -26,8 +26,8 @@ namespace hexfem {
 // points, where ccx checks it ("nonpositive jacobian": it refuses the whole deck), although
 // hexfem's own pyramid13 is valid there. 0 at order 1 (C3D8 with the apex repeated).
 long pyramids_ccx_refuses(const MixedMesh& mesh);
-// The same per cell (1: such a pyramid), for write_inp's reduced_pyramids: they go out as C3D20R,
-// whose 2x2x2 points ccx accepts; empty when there is none.
+// The same per cell, for write_inp's reduced_pyramids (they go out as C3D20R): 1 for such a
+// pyramid valid at C3D20R's 2x2x2 points, 2 for one inside out there too; empty when none.
 std::vector<char> pyramids_ccx_refuses_mask(const MixedMesh& mesh);
 
 // The note for an .inp with such pyramids, written as C3D20R ("" when none).

@@ -345,7 +345,7 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
                "(corners 1 2 3 4 5 5 5 5, the top edges' mid nodes at the apex too)\n";
         if (k.reduced)
           s += "** These pyramids, collapsed C3D20 too, would be inside out at C3D20's 3x3x3 "
-               "points (ccx refuses them): C3D20R, whose 2x2x2 points they are valid at\n";
+               "points (ccx refuses them): C3D20R, with 2x2x2 points\n";
         s += std::string("*ELEMENT, TYPE=") + k.type + ", ELSET=" + k.elset + "\n";
         used_elsets.push_back(k.elset);
         any = true;
