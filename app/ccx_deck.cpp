@@ -1,7 +1,6 @@
 #include "app/ccx_deck.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cstdio>
 #include <limits>
 #include <ostream>
@@ -15,16 +14,6 @@
 
 namespace hexfem {
 namespace {
-
-// A number in at most 20 characters, the field ccx 2.20 reads (it refuses a longer one): the
-// shortest round-trip form when it fits, else as many digits as fit.
-std::string ccx_number(double v) {
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
-  for (int digits = 16; r.ptr - buf > 20 && digits > 1; --digits)
-    r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, digits);
-  return std::string(buf, r.ptr);
-}
 
 // The smallest det J of the 20-node hex x at the points of ref.
 double min_det(const ReferenceElement& ref, const Vec3* x) {
@@ -80,8 +69,7 @@ std::vector<char> pyramids_ccx_refuses_mask(const MixedMesh& mesh) {
   return mask;
 }
 
-std::string ccx_pyramid_warning(const MixedMesh& mesh, const std::filesystem::path& inp) {
-  const std::vector<char> mask = pyramids_ccx_refuses_mask(mesh);
+std::string ccx_pyramid_warning(const std::vector<char>& mask, const std::filesystem::path& inp) {
   const long n = static_cast<long>(mask.size() - std::count(mask.begin(), mask.end(), 0));
   if (n == 0) return "";
   const long still = static_cast<long>(std::count(mask.begin(), mask.end(), 2));
@@ -94,14 +82,18 @@ std::string ccx_pyramid_warning(const MixedMesh& mesh, const std::filesystem::pa
          "; --no-pyramids meshes without pyramids";
 }
 
-std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,
-                                                  const ModalOptions& options,
-                                                  const std::vector<std::uint8_t>& fixed,
-                                                  const std::filesystem::path& deck) {
+std::filesystem::path ccx_deck_mesh_path(const std::filesystem::path& deck) {
   std::filesystem::path mesh_file = deck;
-  mesh_file.replace_filename(deck.stem().string() + "_mesh.inp");
+  return mesh_file.replace_filename(deck.stem().string() + "_mesh.inp");
+}
+
+CcxDeckFiles write_ccx_deck(const MixedMesh& mesh, const ModalOptions& options,
+                            const std::vector<std::uint8_t>& fixed,
+                            const std::filesystem::path& deck) {
+  const std::filesystem::path mesh_file = ccx_deck_mesh_path(deck);
+  const std::vector<char> reduced = pyramids_ccx_refuses_mask(mesh);
   write_inp(mesh, mesh_file, node_tie_list(nc_face_ties(mesh, fixed)),
-            mesh.order == 1 && options.incompatible_hex, pyramids_ccx_refuses_mask(mesh));
+            mesh.order == 1 && options.incompatible_hex, reduced);
 
   // A consistent system in the mesh's length unit L (s metres), newtons and seconds: stress in
   // N/L^2, mass in N s^2/L, so E' = E s^2 and rho' = rho s^4 (mm: MPa and t/mm^3).
@@ -119,8 +111,8 @@ std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,
     for (std::int32_t solid : solids) {
       const Material& m = options.material.of(solid);
       out << "*MATERIAL, NAME=M" << solid << "\n** " << m.name << "\n*ELASTIC\n"
-          << ccx_number(m.E * E_scale) << ", " << ccx_number(m.nu) << "\n*DENSITY\n"
-          << ccx_number(m.rho * rho_scale) << "\n*SOLID SECTION, ELSET=SOLID_" << solid
+          << inp_real(m.E * E_scale) << ", " << inp_real(m.nu) << "\n*DENSITY\n"
+          << inp_real(m.rho * rho_scale) << "\n*SOLID SECTION, ELSET=SOLID_" << solid
           << ", MATERIAL=M" << solid << "\n";
     }
     bool header = false;
@@ -138,7 +130,7 @@ std::vector<std::filesystem::path> write_ccx_deck(const MixedMesh& mesh,
     }
     out << "*STEP\n*FREQUENCY\n" << options.num_modes << "\n*END STEP\n";
   });
-  return {deck, mesh_file};
+  return {deck, mesh_file, ccx_pyramid_warning(reduced, mesh_file)};
 }
 
 }  // namespace hexfem

@@ -129,12 +129,10 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
   if (!a.mesh_out.empty())
     check_output_file("--mesh-out", a.mesh_out, {"msh", "vtu", "inp"}, {a.mesh});
   if (!a.ccx_deck.empty()) {
-    std::filesystem::path mesh_part = a.ccx_deck;
-    mesh_part.replace_filename(mesh_part.stem().string() + "_mesh.inp");
     std::vector<std::string> inputs{a.mesh};
     if (!a.mesh_out.empty()) inputs.push_back(a.mesh_out);
     check_output_file("--ccx-deck", a.ccx_deck, {"inp"}, inputs);
-    check_output_file("--ccx-deck", mesh_part.string(), {"inp"}, inputs);
+    check_output_file("--ccx-deck", ccx_deck_mesh_path(a.ccx_deck).string(), {"inp"}, inputs);
   }
   if (!a.modes_out.empty()) {
     check_output_file("--modes-out", a.modes_out, {"vtu"}, {a.mesh});
@@ -209,13 +207,12 @@ int run(const Args& a) {
                        " rigid-body mode(s) left: the fixed DOFs do not hold the part in every "
                        "direction");
   if (!a.modes_out.empty()) write_mode_shapes_vtu(mesh, r, a.modes_out);
-  std::vector<std::filesystem::path> deck_files;
+  CcxDeckFiles deck;
   if (!a.ccx_deck.empty()) {
     ModalOptions as_solved = opt;
     as_solved.length_scale = shown.scale;  // a CAD part is meshed in mm
-    deck_files = write_ccx_deck(mesh, as_solved, select_fixed_dofs(mesh, a.modal.fix), a.ccx_deck);
-    const std::string w = ccx_pyramid_warning(mesh, deck_files[1]);
-    if (!w.empty()) warnings.push_back(w);
+    deck = write_ccx_deck(mesh, as_solved, select_fixed_dofs(mesh, a.modal.fix), a.ccx_deck);
+    if (!deck.warning.empty()) warnings.push_back(deck.warning);
   }
 
   std::size_t count[kNumCellKinds] = {};
@@ -254,7 +251,7 @@ int run(const Args& a) {
     j["fix"] = a.modal.fix;
     j["warnings"] = warnings;
     if (!a.modes_out.empty()) j["modes_out"] = a.modes_out;
-    for (const auto& f : deck_files) j["ccx_deck"].push_back(f.string());
+    if (!deck.deck.empty()) j["ccx_deck"] = {deck.deck.string(), deck.mesh.string()};
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
@@ -334,10 +331,9 @@ int run(const Args& a) {
               100 * sum[0], 100 * sum[1], 100 * sum[2], 100 * r.free_mass[0] / r.total_mass,
               100 * r.free_mass[1] / r.total_mass, 100 * r.free_mass[2] / r.total_mass);
   if (!a.modes_out.empty()) std::printf("\nmode shapes written to %s\n", a.modes_out.c_str());
-  if (!deck_files.empty())
+  if (!deck.deck.empty())
     std::printf("CalculiX deck written to %s (mesh in %s): run `ccx %s` in its folder\n",
-                deck_files[0].c_str(), deck_files[1].filename().c_str(),
-                deck_files[0].stem().c_str());
+                deck.deck.c_str(), deck.mesh.filename().c_str(), deck.deck.stem().c_str());
   return 0;
 }
 

@@ -55,7 +55,7 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o);
 
 // The --material values: at most one plain name (every solid; steel when none), then
 // "solid:IDS=NAME" or "solid:IDS=E,nu,rho" (Pa, -, kg/m^3) with IDS a list of ids and ranges
-// ("1,4-6"). --E, --nu and --rho (when given, > 0 in `E`...) modify the plain name's material.
+// ("1,4-6"). --E, --nu and --rho (non-null when given) modify the plain name's material.
 // Throws hexfem::Error naming the bad value.
 SolidMaterials parse_materials(const std::vector<std::string>& specs, const double* E,
                                const double* nu, const double* rho);

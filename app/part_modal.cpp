@@ -91,7 +91,7 @@ MeshWriteOptions mesh_write_options(const MixedMesh& mesh, const std::filesystem
   o.binary = binary;
   if (lower_extension(path) == "inp") {
     o.inp_reduced_pyramids = pyramids_ccx_refuses_mask(mesh);
-    const std::string w = ccx_pyramid_warning(mesh, path);
+    const std::string w = ccx_pyramid_warning(o.inp_reduced_pyramids, path);
     if (!w.empty() && warnings) warnings->push_back(w);
   }
   if (mesh.order != 2 || mesh.nc_cell.empty()) return o;

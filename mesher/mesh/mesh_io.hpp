@@ -68,6 +68,12 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
                const std::vector<NodeTie>& ties = {}, bool incompatible_hex8 = false,
                const std::vector<char>& reduced_pyramids = {});
 
+// A real number as an .inp field: the shortest round-trip form when it fits in 20 characters,
+// since ccx 2.20 refuses a longer field ("*ERROR reading *NODE" on 1.7763568394002505E-15, a
+// coordinate a glued assembly's fuse left next to zero); else the most digits that fit (14 to
+// 16 significant, far below any mesh tolerance).
+std::string inp_real(double v);
+
 // Writes by extension: .msh (options.binary), .vtu, .inp. Unknown extension: hexfem::Error.
 void write_mesh(const MixedMesh& mesh, const std::filesystem::path& path,
                 const MeshWriteOptions& options = {});

@@ -70,17 +70,19 @@ void data_array(std::string& s, const char* type, const char* name, int componen
   s += "\n</DataArray>\n";
 }
 
-// A real number for CalculiX and a space: the shortest round-trip form when it fits in 20
-// characters, since ccx 2.20 refuses a longer field ("*ERROR reading *NODE" on
-// 1.7763568394002505E-15, a coordinate a glued assembly's fuse left next to zero); else the most
-// digits that fit (14 to 16 significant, far below any mesh tolerance).
-void put_inp_real(std::string& s, double v) {
+// Writes v into buf (32 chars) as inp_real says; returns the end.
+char* inp_real_chars(double v, char* buf) {
   constexpr std::ptrdiff_t kCcxField = 20;
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  auto r = std::to_chars(buf, buf + 32, v);
   for (int digits = 16; r.ptr - buf > kCcxField && digits > 1; --digits)
-    r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, digits);
-  s.append(buf, r.ptr);
+    r = std::to_chars(buf, buf + 32, v, std::chars_format::general, digits);
+  return r.ptr;
+}
+
+// A real number for CalculiX and a space (no string made: millions of coordinates).
+void put_inp_real(std::string& s, double v) {
+  char buf[32];
+  s.append(buf, inp_real_chars(v, buf));
   s.push_back(' ');
 }
 
@@ -294,6 +296,11 @@ void write_inp_ties(const std::vector<NodeTie>& ties, std::string& s) {
 }
 
 }  // namespace
+
+std::string inp_real(double v) {
+  char buf[32];
+  return std::string(buf, inp_real_chars(v, buf));
+}
 
 void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
                const std::vector<NodeTie>& ties, bool incompatible_hex8,
