@@ -654,30 +654,20 @@ SolidMaterials unpack_materials(const std::vector<double>& v) {
   return m;
 }
 
-// Rank 0 sends what the others need; MPI_Bcast does not write the root's buffers.
-void send_job(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, JobParams job,
-              std::vector<double> materials) {
-  int cmd = kSolve;
-  broadcast_bytes(&cmd, sizeof cmd);
-  broadcast_vector(const_cast<std::vector<Vec3>&>(mesh.nodes));
-  broadcast_vector(const_cast<std::vector<CellKind>&>(mesh.cell_kind));
-  broadcast_vector(const_cast<std::vector<std::int32_t>&>(mesh.cell_nodes));
-  broadcast_vector(const_cast<std::vector<std::int32_t>&>(mesh.cell_edge_nodes));
-  broadcast_bytes(const_cast<int*>(&mesh.order), sizeof mesh.order);
-  broadcast_vector(const_cast<std::vector<std::int32_t>&>(mesh.cell_solid));
-  broadcast_vector(const_cast<std::vector<std::uint8_t>&>(fixed));
-  broadcast_bytes(&job, sizeof job);
-  broadcast_vector(materials);
-}
-
-void receive_job(MixedMesh& mesh, std::vector<std::uint8_t>& fixed, JobParams& job,
-                 std::vector<double>& materials) {
+// Everything solve_distributed reads from the mesh, shared from rank 0: on the root MPI_Bcast
+// reads the buffers, elsewhere it fills them. One list for both sides, so they cannot drift (the
+// NC faces were once left out: the other ranks then had no order-2 ties, laid out other DOFs,
+// and the first collective deadlocked).
+void share_job(MixedMesh& mesh, std::vector<std::uint8_t>& fixed, JobParams& job,
+               std::vector<double>& materials) {
   broadcast_vector(mesh.nodes);
   broadcast_vector(mesh.cell_kind);
   broadcast_vector(mesh.cell_nodes);
   broadcast_vector(mesh.cell_edge_nodes);
   broadcast_bytes(&mesh.order, sizeof mesh.order);
   broadcast_vector(mesh.cell_solid);
+  broadcast_vector(mesh.nc_cell);
+  broadcast_vector(mesh.nc_local_face);
   broadcast_vector(fixed);
   broadcast_bytes(&job, sizeof job);
   broadcast_vector(materials);
@@ -693,7 +683,13 @@ ModalResult solve_modal_iterative(const MixedMesh& mesh, const ModalOptions& opt
   job.incompatible_hex = options.incompatible_hex;
   job.length_scale = options.length_scale;
   job.settings = options.iterative;
-  if (mpi_size() > 1) send_job(mesh, fixed, job, pack_materials(options.material));
+  if (mpi_size() > 1) {
+    int cmd = kSolve;
+    broadcast_bytes(&cmd, sizeof cmd);
+    std::vector<double> materials = pack_materials(options.material);
+    share_job(const_cast<MixedMesh&>(mesh), const_cast<std::vector<std::uint8_t>&>(fixed), job,
+              materials);
+  }
   JobOutput o = solve_distributed(mesh, fixed, options.material, job);
 
   ModalResult r;
@@ -757,7 +753,7 @@ int MpiSession::serve() {
     std::vector<std::uint8_t> fixed;
     JobParams job;
     std::vector<double> materials;
-    receive_job(mesh, fixed, job, materials);
+    share_job(mesh, fixed, job, materials);
     try {
       solve_distributed(mesh, fixed, unpack_materials(materials), job);
     } catch (const std::exception&) {
