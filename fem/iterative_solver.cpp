@@ -519,6 +519,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   const int num_rigid = static_cast<int>(rigid.vectors.size());
   const int nev = job.num_modes - std::min(num_rigid, job.num_modes);
   t0 = Clock::now();
+  const SingleThreadedBlas one_blas_thread;  // LOBPCG's dgemm, SLEPc's dense work
   EPS eps = nullptr;
   LobpcgResult lob;
   bool used_eps = false;  // the Krylov-Schur fallback ran (the modes are eps's)

@@ -1,5 +1,6 @@
 #include "fem/petsc_env.hpp"
 
+#include <dlfcn.h>
 #include <slepcsys.h>
 #include <sys/resource.h>
 
@@ -85,6 +86,30 @@ double peak_rss_bytes() {
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   return 1024.0 * static_cast<double>(ru.ru_maxrss);
+}
+
+namespace {
+
+using SetThreads = void (*)(int);
+using GetThreads = int (*)();
+
+// OpenBLAS's thread calls, looked up at run time: Debian's libblas.so.3 may be another BLAS.
+SetThreads openblas_set() {
+  return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+}
+
+}  // namespace
+
+SingleThreadedBlas::SingleThreadedBlas() {
+  const auto get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  const SetThreads set = openblas_set();
+  if (!get || !set || get() <= 1) return;
+  old_threads_ = get();
+  set(1);
+}
+
+SingleThreadedBlas::~SingleThreadedBlas() {
+  if (old_threads_ > 0) openblas_set()(old_threads_);
 }
 
 void broadcast_bytes(void* data, long bytes) {
