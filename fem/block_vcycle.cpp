@@ -104,7 +104,7 @@ double largest_eigenvalue(Mat A, Vec inv_diag) {
 }  // namespace
 
 BlockVcycle::BlockVcycle(PC pc, int chebyshev_steps, double lo, double hi)
-    : steps_(chebyshev_steps) {
+    : steps_(chebyshev_steps), lo_(lo), hi_(hi) {
   PetscInt n;
   HEXFEM_PETSC(PCMGGetLevels(pc, &n));
   levels_.resize(n);
@@ -117,23 +117,37 @@ BlockVcycle::BlockVcycle(PC pc, int chebyshev_steps, double lo, double hi)
     if (l == 0) continue;
     HEXFEM_PETSC(PCMGGetInterpolation(pc, l, &L.P));
     HEXFEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(L.P)));
-    Vec inv_diag;
-    HEXFEM_PETSC(MatCreateVecs(L.A, &inv_diag, nullptr));
-    HEXFEM_PETSC(MatGetDiagonal(L.A, inv_diag));
-    HEXFEM_PETSC(VecReciprocal(inv_diag));
-    const double top = largest_eigenvalue(L.A, inv_diag);
-    L.emin = lo * top;
-    L.emax = hi * top;
-    PetscInt nloc;
-    const PetscScalar* v;
-    HEXFEM_PETSC(VecGetLocalSize(inv_diag, &nloc));
-    HEXFEM_PETSC(VecGetArrayRead(inv_diag, &v));
-    L.inv_diag.assign(v, v + nloc);
-    HEXFEM_PETSC(VecRestoreArrayRead(inv_diag, &v));
-    VecDestroy(&inv_diag);
+    set_up_smoother(L);
   }
   HEXFEM_PETSC(PCMGGetCoarseSolve(pc, &coarse_));
   HEXFEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(coarse_)));
+}
+
+void BlockVcycle::add_finer_level(Mat A, Mat P) {
+  Level& L = levels_.emplace_back();
+  L.A = A;
+  L.P = P;
+  HEXFEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(L.A)));
+  HEXFEM_PETSC(PetscObjectReference(reinterpret_cast<PetscObject>(L.P)));
+  set_up_smoother(L);
+  k_ = 0;  // the work blocks are laid out for the old finest level
+}
+
+void BlockVcycle::set_up_smoother(Level& L) {
+  Vec inv_diag;
+  HEXFEM_PETSC(MatCreateVecs(L.A, &inv_diag, nullptr));
+  HEXFEM_PETSC(MatGetDiagonal(L.A, inv_diag));
+  HEXFEM_PETSC(VecReciprocal(inv_diag));
+  const double top = largest_eigenvalue(L.A, inv_diag);
+  L.emin = lo_ * top;
+  L.emax = hi_ * top;
+  PetscInt nloc;
+  const PetscScalar* v;
+  HEXFEM_PETSC(VecGetLocalSize(inv_diag, &nloc));
+  HEXFEM_PETSC(VecGetArrayRead(inv_diag, &v));
+  L.inv_diag.assign(v, v + nloc);
+  HEXFEM_PETSC(VecRestoreArrayRead(inv_diag, &v));
+  VecDestroy(&inv_diag);
 }
 
 BlockVcycle::~BlockVcycle() {

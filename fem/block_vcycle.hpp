@@ -25,6 +25,11 @@ class BlockVcycle {
   BlockVcycle(const BlockVcycle&) = delete;
   BlockVcycle& operator=(const BlockVcycle&) = delete;
 
+  // A level above the finest: operator A (its rows are apply()'s from now on), interpolation P
+  // from the old finest level, smoothed as the others (fem/p_multigrid.hpp: order 2 over GAMG's
+  // order-1 hierarchy).
+  void add_finer_level(Mat A, Mat P);
+
   // out = one V-cycle applied to each column of in (dense matrices with the fine level's rows).
   void apply(Mat in, Mat out);
   // out = A in, A the finest level's operator, through the cycle's idle finest-level blocks.
@@ -41,6 +46,7 @@ class BlockVcycle {
     std::unique_ptr<RowBlockProduct> a, p;  // A, and P (from the coarser level)
     std::vector<double> b, x, r, d;         // right-hand side, solution, residual, step
   };
+  void set_up_smoother(Level& L);  // Jacobi diagonal and Chebyshev interval of L.A
   void prepare(int k);
   void load_rhs(Level& L);  // L.r = L.b (the finest level's from rhs_)
   void cycle(int l);
@@ -50,7 +56,8 @@ class BlockVcycle {
   Mat rhs_ = nullptr;                            // apply()'s input while it runs
   Mat coarse_b_ = nullptr, coarse_x_ = nullptr;  // level 0's b and x as PETSc dense blocks
   int steps_;
-  int k_ = 0;  // the column count the work is made for
+  double lo_, hi_;  // the Chebyshev interval over the largest eigenvalue of D⁻¹A
+  int k_ = 0;       // the column count the work is made for
 };
 
 }  // namespace hexfem

@@ -47,6 +47,9 @@ struct IterativeSettings {
   // smoother); false: PETSc's own V-cycle, column by column.
   bool block_vcycle = true;
   int chebyshev_steps = 2;
+  // Order 2: GAMG's hierarchy built on the order-1 space of the same mesh (P^T K P), with one
+  // Chebyshev-Jacobi level on K above it (fem/p_multigrid.hpp); false: GAMG on K itself.
+  bool p_multigrid = true;
   // The Chebyshev interval is [chebyshev_low, 1.1] x the largest eigenvalue of D⁻¹A per level.
   double chebyshev_low = 0.1;
 };

@@ -16,12 +16,14 @@
 #include "fem/assembly.hpp"
 #include "fem/block_vcycle.hpp"
 #include "fem/boundary.hpp"
+#include "fem/dof_layout.hpp"
 #include "fem/element.hpp"
 #include "fem/gamg.hpp"
 #include "fem/hex8_incompatible.hpp"
 #include "fem/krylov_schur.hpp"
 #include "fem/lobpcg.hpp"
 #include "fem/nc_ties.hpp"
+#include "fem/p_multigrid.hpp"
 #include "fem/petsc_env.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/progress.hpp"
@@ -68,16 +70,6 @@ struct JobOutput {
 // The nodes that carry equations (used by a cell, not fixed in all three components) in a
 // Morton (Z-curve) order of their coordinates: neighbours stay close in memory, and cutting the
 // order into contiguous ranges gives compact per-rank parts.
-struct Layout {
-  std::vector<std::int32_t> order;  // position -> node
-  std::vector<std::int32_t> pos;    // node -> position, -1 when the node has no equation
-  std::vector<long> starts;         // first position of each rank, plus the end
-  long begin = 0, end = 0;          // this rank's positions
-  int owner(long p) const {
-    return static_cast<int>(std::upper_bound(starts.begin(), starts.end(), p) - starts.begin()) - 1;
-  }
-};
-
 // Nodes of any element (corners and, at order 2, mid-edge nodes).
 std::vector<std::uint8_t> element_node_mask(const MixedMesh& mesh) {
   std::vector<std::uint8_t> used(mesh.nodes.size(), 0);
@@ -99,8 +91,8 @@ std::uint64_t spread_bits(std::uint64_t v) {  // 21 bits -> every third bit of 6
 }
 
 // Nodes tied to others (order-2 NC faces, fem/nc_ties.hpp) carry no equation either.
-Layout make_layout(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
-                   const NodeTies& ties, int rank, int size) {
+DofLayout make_layout(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
+                      const NodeTies& ties, int rank, int size) {
   const long nn = static_cast<long>(mesh.nodes.size());
   const std::vector<std::uint8_t> used = element_node_mask(mesh);
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
@@ -124,7 +116,7 @@ Layout make_layout(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed
     keyed.emplace_back(code, static_cast<std::int32_t>(v));
   }
   std::sort(keyed.begin(), keyed.end());
-  Layout L;
+  DofLayout L;
   L.pos.assign(nn, -1);
   L.order.reserve(keyed.size());
   for (const auto& [code, v] : keyed) {
@@ -143,7 +135,7 @@ Layout make_layout(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed
 
 // A cell is assembled by the rank owning its first-ordered node; cells without equations
 // (every node clamped) only add their mass, on rank c % size.
-int cell_owner(const MixedMesh& mesh, const Layout& L, long c, int size) {
+int cell_owner(const MixedMesh& mesh, const DofLayout& L, long c, int size) {
   long first = -1;
   std::int32_t ids[kMaxElementNodes];
   const int n = mesh.element_nodes(c, ids);
@@ -190,7 +182,7 @@ struct Matrices {
 
 // Block preallocation per owned node: neighbours in this rank's range (diagonal part) and
 // outside it; the *_upper counts (position >= own) are for the symmetric M.
-void preallocate(const MixedMesh& mesh, const NodeTies& ties, const Layout& L, Mat K, Mat M) {
+void preallocate(const MixedMesh& mesh, const NodeTies& ties, const DofLayout& L, Mat K, Mat M) {
   const NodeGraph g = node_graph(mesh, &ties);
   const long nloc = L.end - L.begin;
   std::vector<PetscInt> d(nloc, 1), o(nloc, 0), du(nloc, 1), ou(nloc, 0);
@@ -221,8 +213,9 @@ Mat create_matrix(MatType type, long local_rows) {
 // DOFs fixed on partly free nodes are decoupled, with K_ii / M_ii = λ_spurious.
 // Returns the mass of the whole mesh; `volume` gets its volume.
 double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, const NodeTies& ties,
-                const Layout& L, const JobParams& job, const std::vector<const Material*>& cell_mat,
-                double sigma, double lambda_spurious, Matrices& mats, double& volume) {
+                const DofLayout& L, const JobParams& job,
+                const std::vector<const Material*>& cell_mat, double sigma, double lambda_spurious,
+                Matrices& mats, double& volume) {
   const int rank = mpi_rank(), size = mpi_size();
   mats.K = create_matrix(MATAIJ, L.end - L.begin);
   mats.M = create_matrix(MATSBAIJ, L.end - L.begin);
@@ -309,22 +302,12 @@ double assemble(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed, c
 }
 
 // The six rigid-body motions of the owned nodes, for GAMG's aggregates.
-void attach_near_null_space(const MixedMesh& mesh, const Layout& L, double length_scale, Mat K) {
-  Vec coords;
-  HEXFEM_PETSC(VecCreate(PETSC_COMM_WORLD, &coords));
-  HEXFEM_PETSC(VecSetSizes(coords, 3 * (L.end - L.begin), PETSC_DETERMINE));
-  HEXFEM_PETSC(VecSetBlockSize(coords, 3));
-  HEXFEM_PETSC(VecSetFromOptions(coords));
-  PetscScalar* c;
-  HEXFEM_PETSC(VecGetArray(coords, &c));
+void attach_near_null_space(const MixedMesh& mesh, const DofLayout& L, double length_scale, Mat K) {
+  std::vector<double> coords;
+  coords.reserve(3 * (L.end - L.begin));
   for (long p = L.begin; p < L.end; ++p)
-    for (int d = 0; d < 3; ++d) c[3 * (p - L.begin) + d] = mesh.nodes[L.order[p]][d] * length_scale;
-  HEXFEM_PETSC(VecRestoreArray(coords, &c));
-  MatNullSpace nsp;
-  HEXFEM_PETSC(MatNullSpaceCreateRigidBody(coords, &nsp));
-  HEXFEM_PETSC(MatSetNearNullSpace(K, nsp));
-  HEXFEM_PETSC(MatNullSpaceDestroy(&nsp));
-  HEXFEM_PETSC(VecDestroy(&coords));
+    for (int d = 0; d < 3; ++d) coords.push_back(mesh.nodes[L.order[p]][d] * length_scale);
+  set_rigid_body_near_null_space(K, coords);
 }
 
 // The settings of our own LOBPCG and V-cycle, overridable at run time like PETSc's:
@@ -343,6 +326,8 @@ IterativeSettings with_option_overrides(IterativeSettings s) {
   if (set) s.tolerance = r;
   HEXFEM_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-lobpcg_block_vcycle", &flag, &set));
   if (set) s.block_vcycle = flag;
+  HEXFEM_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-lobpcg_p_multigrid", &flag, &set));
+  if (set) s.p_multigrid = flag;
   return s;
 }
 
@@ -351,7 +336,7 @@ long lo_block(const IterativeSettings& s, int nev) {
 }
 
 // Unit translation along d on the free DOFs.
-void translation(const Layout& L, const std::vector<std::uint8_t>& fixed, int d, Vec r) {
+void translation(const DofLayout& L, const std::vector<std::uint8_t>& fixed, int d, Vec r) {
   PetscScalar* a;
   HEXFEM_PETSC(VecGetArray(r, &a));
   for (long p = L.begin; p < L.end; ++p)
@@ -371,7 +356,7 @@ struct RigidModes {
     for (Vec& v : vectors) VecDestroy(&v);
   }
 };
-void rigid_modes(const MixedMesh& mesh, const Layout& L, const std::vector<std::uint8_t>& fixed,
+void rigid_modes(const MixedMesh& mesh, const DofLayout& L, const std::vector<std::uint8_t>& fixed,
                  const Matrices& mats, RigidModes& out) {
   const UnheldRigidMotions u = unheld_rigid_motions(mesh, fixed);
   const int k = static_cast<int>(u.coefficients.cols());
@@ -419,7 +404,7 @@ void rigid_modes(const MixedMesh& mesh, const Layout& L, const std::vector<std::
 // Eigenpairs back to λ = μ + σ, M-normalized; residuals with the unshifted K; effective masses;
 // the vectors gathered on rank 0 in node order.
 // mode(i, x) writes eigenvector i into x and returns its eigenvalue μ of (K - σM, M).
-void collect(const std::function<double(int, Vec)>& mode, const Matrices& mats, const Layout& L,
+void collect(const std::function<double(int, Vec)>& mode, const Matrices& mats, const DofLayout& L,
              const std::vector<std::uint8_t>& fixed, const NodeTies& ties, const JobParams& job,
              double sigma, double lambda_spurious, long num_nodes, JobOutput& out) {
   const int k = job.num_modes;
@@ -489,7 +474,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   JobOutput out;
   auto t0 = Clock::now();
   const NodeTies ties = nc_face_ties(mesh, fixed);  // the same on every rank
-  const Layout L = make_layout(mesh, fixed, ties, rank, size);
+  const DofLayout L = make_layout(mesh, fixed, ties, rank, size);
   // Tied DOFs are neither free nor fixed.
   const std::vector<std::uint8_t> used = element_node_mask(mesh);
   for (std::size_t i = 0; i < fixed.size(); ++i)
@@ -537,11 +522,16 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
       ~KspGuard() { KSPDestroy(&k); }
     } ksp_guard{pc_ksp};
     HEXFEM_PETSC(KSPSetOptionsPrefix(pc_ksp, "st_"));  // as SLEPc's: -st_mg_levels_ksp_max_it ...
-    HEXFEM_PETSC(KSPSetOperators(pc_ksp, mats.K, mats.K));
+    const auto t_setup = Clock::now();
+    // Order 2: GAMG on the order-1 space of the same mesh, K smoothed above it (p_multigrid.hpp).
+    OrderOneCoarse coarse;
+    const bool p_multigrid = mesh.order == 2 && s.block_vcycle && s.p_multigrid;
+    if (p_multigrid) make_order_one_coarse(mesh, fixed, L, job.length_scale, mats.K, coarse);
+    Mat amg_operator = p_multigrid ? coarse.A : mats.K;
+    HEXFEM_PETSC(KSPSetOperators(pc_ksp, amg_operator, amg_operator));
     HEXFEM_PETSC(KSPSetType(pc_ksp, KSPPREONLY));
     configure_gamg(pc_ksp, s);
     HEXFEM_PETSC(KSPSetFromOptions(pc_ksp));
-    const auto t_setup = Clock::now();
     HEXFEM_PETSC(KSPSetUp(pc_ksp));
     PC pc;
     HEXFEM_PETSC(KSPGetPC(pc_ksp, &pc));
@@ -549,6 +539,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     std::unique_ptr<BlockVcycle> vcycle;
     if (s.block_vcycle)
       vcycle = std::make_unique<BlockVcycle>(pc, s.chebyshev_steps, s.chebyshev_low);
+    if (p_multigrid) vcycle->add_finer_level(mats.K, coarse.P);
     out.setup_seconds += seconds_since(t_setup);
     out.peak_after_setup = peak_rss_bytes();
     LobpcgProblem problem{mats.K, mats.M, nullptr, nullptr, rigid.vectors};
