@@ -373,12 +373,16 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
   res.eigenvalues = std::move(lambda);
   res.vectors = std::move(phi);
   // Residuals against the top of the computed spectrum, so rigid-body modes (λ ≈ 0, Kφ ≈ 0) are
-  // judged by how small Kφ is, not by a ratio of two round-off quantities.
+  // judged by how small Kφ is, not by a ratio of two round-off quantities. The rigid-body modes
+  // come from the geometry, not the iteration: their Kφ is round-off in K's own scale (about
+  // 1e-13 of the median K_ii/M_ii), which on a slender free part at fine h is 1e6-1e7 times its
+  // first elastic eigenvalue; judged against that, exact modes were refused (tie_rod, h 12).
   const double scale = std::max(std::abs(res.eigenvalues.maxCoeff()), std::abs(res.sigma));
   for (long k = 0; k < res.vectors.cols(); ++k) {
     const Eigen::VectorXd kx = K.selfadjointView<Eigen::Lower>() * res.vectors.col(k);
     const Eigen::VectorXd mx = M.selfadjointView<Eigen::Lower>() * res.vectors.col(k);
-    const double r = (kx - res.eigenvalues[k] * mx).norm() / (scale * mx.norm());
+    const double mode_scale = k < nz ? std::max(scale, lambda_scale) : scale;
+    const double r = (kx - res.eigenvalues[k] * mx).norm() / (mode_scale * mx.norm());
     res.max_residual = std::max(res.max_residual, r);
   }
   // Never report frequencies the iteration did not resolve (10^4 above what it usually reaches).
