@@ -33,6 +33,16 @@ int run(const ConvergeArgs& a) {
   if (a.sizes.empty()) throw Error("--h needs at least one size");
   for (double h : a.sizes)
     if (!(h > 0) || !std::isfinite(h)) throw Error("--h: every size must be finite and > 0");
+  // The observed order and the monotone test read the rows from coarse to fine.
+  for (std::size_t i = 1; i < a.sizes.size(); ++i)
+    if (!(a.sizes[i] < a.sizes[i - 1])) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "--h: the sizes must go from coarse to fine, each smaller than the last (%g "
+                    "then %g)",
+                    a.sizes[i - 1], a.sizes[i]);
+      throw Error(buf);
+    }
   if (a.modal.fix.empty())
     throw Error("--fix is required for a convergence study (e.g. --fix face:8)");
   const ModalOptions modal = modal_options_from(a.modal);
@@ -104,7 +114,7 @@ int run(const ConvergeArgs& a) {
   const bool same_bound = std::all_of(curvature.begin(), curvature.end(),
                                       [&](int c) { return c == curvature.front(); });
   // Not given: order 2 has a default bound; at order 1 any bound is the mesher's volume retry.
-  const char* origin = a.modal.curvature >= 0 ? ""
+  const char* origin = given(a.modal.curvature_given) ? ""
                        : a.modal.order == 2
                            ? " (the order-2 default, never finer than h/2; --curvature 0 turns it "
                              "off)"

@@ -101,7 +101,7 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
   if (!fix.empty() && a.free) throw Error("--free and --fix exclude each other");
   ModalOptions opt = modal_options_from(a.modal);
   check_input_file(a.mesh);
-  const bool order_given = a.modal.order_given && a.modal.order_given->count() > 0;
+  const bool order_given = given(a.modal.order_given);
   check_hex8_for_order(a.modal, a.modal.order == 2 && (cad_input || order_given));
   if (cad_input) {
     check_finite("--h", a.h);
@@ -114,7 +114,7 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
       throw Error("--conformal is for CAD input; '" + a.mesh + "' is already a mesh");
     if (!a.modal.size_at.empty())
       throw Error("--size-at is for CAD input; '" + a.mesh + "' is already a mesh");
-    if (a.modal.curvature != -1)
+    if (given(a.modal.curvature_given))
       throw Error("--curvature is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.relax_points != -1)
       throw Error("--relax-points is for CAD input; '" + a.mesh + "' is already a mesh");
@@ -123,7 +123,7 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
     if (a.modal.no_pyramids)
       throw Error("--no-pyramids is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.glue) throw Error("--glue is for CAD input; '" + a.mesh + "' is already a mesh");
-    if (a.modal.singular_size != -1)
+    if (given(a.modal.singular_size_given))
       throw Error("--singular-size is for CAD input; '" + a.mesh + "' is already a mesh");
   }
   if (!a.mesh_out.empty())
@@ -169,7 +169,7 @@ int run(const Args& a) {
   } else {
     mesh = read_mesh(a.mesh);
     read_order2 = mesh.order == 2;
-    const bool order_given = a.modal.order_given && a.modal.order_given->count() > 0;
+    const bool order_given = given(a.modal.order_given);
     if (order_given && a.modal.order == 2 && mesh.order == 1)
       part.order2 = raise_to_order2(mesh, nullptr);  // no geometry: straight edges
     if (order_given && a.modal.order == 1 && mesh.order == 2) {

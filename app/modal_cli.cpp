@@ -41,11 +41,12 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
   sub.add_option("--size-at", o.size_at,
                  "CAD input: size at a CAD vertex, edge or face, repeatable: vertex:ID=S | "
                  "edge:ID=S | face:ID=S (S in mm, or 0.5h: a fraction of --h)");
-  sub.add_option("--curvature", o.curvature,
-                 "CAD input: curvature bound, N elements per 2*pi on curved edges and faces (0 = "
-                 "off). Default: " +
-                     std::to_string(kOrder2Curvature) +
-                     " at order 2 (never finer than h/2 from it), off at order 1");
+  o.curvature_given = sub.add_option(
+      "--curvature", o.curvature,
+      "CAD input: curvature bound, N elements per 2*pi on curved edges and faces (0 = "
+      "off). Default: " +
+          std::to_string(kOrder2Curvature) +
+          " at order 2 (never finer than h/2 from it), off at order 1");
   sub.add_option("--relax-points", o.relax_points,
                  "CAD input: sweeps moving each interior point towards its lattice neighbours "
                  "(mesher study switch, as on `mesh`)")
@@ -55,9 +56,10 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                  "(mesher study switch, as on `mesh`)")
       ->check(CLI::Range(0.0, 10.0));
   sub.add_flag("--glue", o.glue, std::string("CAD input: ") + kGlueHelp);
-  sub.add_option("--singular-size", o.singular_size,
-                 "CAD input: size at re-entrant edges and at the rim of clamped faces, a fraction "
-                 "of --h, e.g. 0.25 (default: off)");
+  o.singular_size_given = sub.add_option(
+      "--singular-size", o.singular_size,
+      "CAD input: size at re-entrant edges and at the rim of clamped faces, a fraction "
+      "of --h, e.g. 0.25 (default: off)");
   sub.add_flag("--no-pyramids", o.no_pyramids,
                "CAD input: make no pyramids (a quad face against two triangles stays NC; tied at "
                "order 2)");
@@ -101,11 +103,11 @@ std::string GradedEdges::note() const {
 }
 
 GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad) {
-  if (o.singular_size != -1 && !(o.singular_size >= 0 && o.singular_size <= 1))
+  if (given(o.singular_size_given) && !(o.singular_size >= 0 && o.singular_size <= 1))
     throw Error("--singular-size must be a fraction of --h in [0, 1] (0 = off), got " +
                 std::to_string(o.singular_size));
   GradedEdges g;
-  g.fraction = std::max(0.0, o.singular_size);
+  g.fraction = given(o.singular_size_given) ? o.singular_size : 0.0;
   if (g.fraction > 0) {
     g.reentrant = reentrant_edges(cad);
     g.rim = rim_edges(cad, clamped_cad_faces(cad, o.fix));
@@ -114,12 +116,12 @@ GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad)
 }
 
 MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const GradedEdges& graded) {
-  if (o.curvature != -1 && (o.curvature < 0 || (o.curvature > 0 && o.curvature < 3)))
+  if (given(o.curvature_given) && (o.curvature < 0 || (o.curvature > 0 && o.curvature < 3)))
     throw Error("--curvature must be 0 (off) or at least 3 elements per 2*pi (got " +
                 std::to_string(o.curvature) + ")");
   MeshOptions m;
   m.surface.h = h;
-  if (o.curvature >= 0) {
+  if (given(o.curvature_given)) {
     m.surface.curvature = o.curvature;
   } else if (o.order == 2) {
     m.surface.curvature = kOrder2Curvature;
@@ -288,7 +290,7 @@ ModalOptions modal_options_from(const ModalCliOptions& o) {
 }
 
 void check_hex8_for_order(const ModalCliOptions& o, bool order2) {
-  if (order2 && o.hex8_given && o.hex8_given->count() > 0)
+  if (order2 && given(o.hex8_given))
     throw Error(
         "--hex8 sets the order-1 hexahedron, but this solve is order 2 (the default for a "
         "CAD part): add --order 1");

@@ -25,9 +25,9 @@ struct ModalCliOptions {
   // Element order: 2 by default for a CAD part (validation/order2.md section 4: it reaches an
   // accurate frequency sooner); a mesh file is solved at its own order unless --order is given.
   int order = 2;
-  // --curvature, CAD input: elements per turn on curved edges and faces; -1 (not given) is the
-  // order's default: kOrder2Curvature at order 2, none at order 1.
-  int curvature = -1;
+  // --curvature, CAD input: elements per turn on curved edges and faces; not given
+  // (curvature_given) is the order's default: kOrder2Curvature at order 2, none at order 1.
+  int curvature = 0;
   // --relax-points, CAD input: lattice relaxation sweeps of the interior points (a mesher study
   // switch, volume_points.hpp); -1 (not given) is none.
   int relax_points = -1;
@@ -40,14 +40,22 @@ struct ModalCliOptions {
   // --glue, CAD input: solids that touch or overlap fragmented into a bonded assembly.
   bool glue = false;
   // --singular-size F, CAD input: size at the singular edges (re-entrant edges and the rim of
-  // the clamped faces, mesher/singular_edges.hpp) as a fraction of h; -1 (not given) and 0 are
-  // none. Not a default: it halves the error per DOF on some parts and raises it on others
-  // (validation/order2.md, "Graded towards the singular edges").
-  double singular_size = -1;
+  // the clamped faces, mesher/singular_edges.hpp) as a fraction of h; not given
+  // (singular_size_given) and 0 are none. Not a default: it halves the error per DOF on some parts
+  // and raises it on others (validation/order2.md, "Graded towards the singular edges").
+  double singular_size = 0;
+  // Options whose absence means a default: asked with given() (a typed -1 is not "not given").
+  CLI::Option* curvature_given = nullptr;
+  CLI::Option* singular_size_given = nullptr;
   CLI::Option* order_given = nullptr;
   CLI::Option* hex8_given = nullptr;
   CLI::Option *E_given = nullptr, *nu_given = nullptr, *rho_given = nullptr;
 };
+
+// True when the option was on the command line.
+inline bool given(const CLI::Option* option) {
+  return option && option->count() > 0;
+}
 
 // Declares --fix --material --E --nu --rho --modes --hex8 --solver --force on `sub`; `o.modes`
 // holds the default number of modes.

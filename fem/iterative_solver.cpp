@@ -572,7 +572,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     lob = lobpcg(problem, lo);
     if (rank == 0) end_progress();
     out.iterations += lob.iterations;
-    out.algorithm = "LOBPCG";
+    out.algorithm = p_multigrid ? "LOBPCG, order 2 over order 1" : "LOBPCG";
     std::string failed;
     if (!lob.failure.empty()) {
       char buf[400];

@@ -83,6 +83,15 @@ TEST(SingularEdges, BadEdgeSizesAndSingularSizesAreOneLineErrors) {
                                  "--singular-size must be a fraction of --h in [0, 1]");
   cadtest::expect_one_line_error("modal " + part + " --h 2 --fix face:1 --singular-size -0.5",
                                  "--singular-size must be a fraction of --h in [0, 1]");
+  // -1 was the "not given" value inside: typed, it was taken as not given (a sweep found it).
+  cadtest::expect_one_line_error("modal " + part + " --h 2 --fix face:1 --singular-size -1",
+                                 "--singular-size must be a fraction of --h in [0, 1]");
+  cadtest::expect_one_line_error("modal " + part + " --h 2 --fix face:1 --curvature -1",
+                                 "--curvature must be 0 (off) or at least 3");
+  cadtest::expect_one_line_error("converge " + part + " --h 2,4,1 --fix face:1",
+                                 "--h: the sizes must go from coarse to fine");
+  cadtest::expect_one_line_error("converge " + part + " --h 2,2 --fix face:1",
+                                 "each smaller than the last (2 then 2)");
 }
 
 // The clamped round bar (cylinder.stp, clamped at y = 177.5), order 2, against the structured
