@@ -67,9 +67,6 @@ struct JobOutput {
   long stiffness_nnz = 0;  // entries of K over all ranks (decoupled fixed rows included)
 };
 
-// The nodes that carry equations (used by a cell, not fixed in all three components) in a
-// Morton (Z-curve) order of their coordinates: neighbours stay close in memory, and cutting the
-// order into contiguous ranges gives compact per-rank parts.
 // Nodes of any element (corners and, at order 2, mid-edge nodes).
 std::vector<std::uint8_t> element_node_mask(const MixedMesh& mesh) {
   std::vector<std::uint8_t> used(mesh.nodes.size(), 0);
@@ -90,6 +87,9 @@ std::uint64_t spread_bits(std::uint64_t v) {  // 21 bits -> every third bit of 6
   return v;
 }
 
+// The nodes that carry equations (used by a cell, not fixed in all three components) in a
+// Morton (Z-curve) order of their coordinates: neighbours stay close in memory, and cutting the
+// order into contiguous ranges gives compact per-rank parts.
 // Nodes tied to others (order-2 NC faces, fem/nc_ties.hpp) carry no equation either.
 DofLayout make_layout(const MixedMesh& mesh, const std::vector<std::uint8_t>& fixed,
                       const NodeTies& ties, int rank, int size) {

@@ -36,8 +36,6 @@ void make_order_one_coarse(const MixedMesh& mesh, const std::vector<std::uint8_t
     if (corner[L.order[p]]) coarse[p] = count++;
     if (p + 1 == L.end) end = count;
   }
-  if (L.begin == L.end) begin = end = 0;
-  out.vertices = count;
 
   HEXFEM_PETSC(MatCreate(PETSC_COMM_WORLD, &out.P));
   HEXFEM_PETSC(MatSetSizes(out.P, 3 * (L.end - L.begin), 3 * (end - begin), PETSC_DETERMINE,

@@ -18,7 +18,6 @@ namespace hexfem {
 struct OrderOneCoarse {
   Mat P = nullptr;  // the layout's DOFs -> the vertices' DOFs (order-1 interpolation)
   Mat A = nullptr;  // P^T K P, with the vertices' rigid-body motions as near-null space
-  long vertices = 0;
   OrderOneCoarse() = default;
   OrderOneCoarse(const OrderOneCoarse&) = delete;
   OrderOneCoarse& operator=(const OrderOneCoarse&) = delete;
