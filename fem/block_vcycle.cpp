@@ -202,6 +202,25 @@ void BlockVcycle::apply(Mat in, Mat out) {
   rhs_ = nullptr;
 }
 
+void BlockVcycle::apply(Vec in, Vec out) {
+  PetscInt nloc, n;
+  HEXFEM_PETSC(VecGetLocalSize(in, &nloc));
+  HEXFEM_PETSC(VecGetSize(in, &n));
+  const PetscScalar* a;
+  PetscScalar* b;
+  HEXFEM_PETSC(VecGetArrayRead(in, &a));  // a KSP locks its right-hand side for reading
+  HEXFEM_PETSC(VecGetArray(out, &b));
+  Mat x, y;  // one-column views of the two vectors; x is only read
+  HEXFEM_PETSC(
+      MatCreateDense(PETSC_COMM_WORLD, nloc, PETSC_DECIDE, n, 1, const_cast<PetscScalar*>(a), &x));
+  HEXFEM_PETSC(MatCreateDense(PETSC_COMM_WORLD, nloc, PETSC_DECIDE, n, 1, b, &y));
+  apply(x, y);
+  MatDestroy(&x);
+  MatDestroy(&y);
+  HEXFEM_PETSC(VecRestoreArray(out, &b));
+  HEXFEM_PETSC(VecRestoreArrayRead(in, &a));
+}
+
 void BlockVcycle::load_rhs(Level& L) {
   if (L.b.empty())
     dense_to_rows(rhs_, L.r, k_);

@@ -32,6 +32,8 @@ class BlockVcycle {
 
   // out = one V-cycle applied to each column of in (dense matrices with the fine level's rows).
   void apply(Mat in, Mat out);
+  // The same on one vector (the CG solves of the Krylov-Schur fallback).
+  void apply(Vec in, Vec out);
   // out = A in, A the finest level's operator, through the cycle's idle finest-level blocks.
   void multiply_finest(Mat in, Mat out);
 

@@ -505,6 +505,16 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   const int nev = job.num_modes - std::min(num_rigid, job.num_modes);
   t0 = Clock::now();
   const SingleThreadedBlas one_blas_thread;  // LOBPCG's dgemm, SLEPc's dense work
+  // Declared before eps: SLEPc applies the fallback's preconditioner again when it hands out the
+  // eigenvectors (EPSGetEigenpair, in collect below), so the V-cycle, the GAMG it runs on
+  // (pc_ksp: its levels' solvers are reset with it) and the shell must outlive it.
+  KSP pc_ksp = nullptr;
+  struct KspGuard {
+    KSP& k;
+    ~KspGuard() { KSPDestroy(&k); }
+  } ksp_guard{pc_ksp};
+  std::unique_ptr<BlockVcycle> vcycle;
+  VectorPreconditioner precondition;
   EPS eps = nullptr;
   LobpcgResult lob;
   bool used_eps = false;  // the Krylov-Schur fallback ran (the modes are eps's)
@@ -515,12 +525,7 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
   if (nev > 0) {
     std::string brief;  // how LOBPCG ended, in a few words
     // LOBPCG (fem/lobpcg.cpp), preconditioned by one GAMG V-cycle on K - σM.
-    KSP pc_ksp;
     HEXFEM_PETSC(KSPCreate(PETSC_COMM_WORLD, &pc_ksp));
-    struct KspGuard {
-      KSP& k;
-      ~KspGuard() { KSPDestroy(&k); }
-    } ksp_guard{pc_ksp};
     HEXFEM_PETSC(KSPSetOptionsPrefix(pc_ksp, "st_"));  // as SLEPc's: -st_mg_levels_ksp_max_it ...
     const auto t_setup = Clock::now();
     // Order 2: GAMG on the order-1 space of the same mesh, K smoothed above it (p_multigrid.hpp).
@@ -536,7 +541,6 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     PC pc;
     HEXFEM_PETSC(KSPGetPC(pc_ksp, &pc));
     drop_galerkin_intermediates(pc);
-    std::unique_ptr<BlockVcycle> vcycle;
     if (s.block_vcycle)
       vcycle = std::make_unique<BlockVcycle>(pc, s.chebyshev_steps, s.chebyshev_low);
     if (p_multigrid) vcycle->add_finer_level(mats.K, coarse.P);
@@ -589,12 +593,17 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     if (!failed.empty() && s.krylov_schur_fallback) {
       // LOBPCG stalls where a cluster of modes straddles its block; shift-and-invert does not.
       HEXFEM_PETSC(EPSCreate(PETSC_COMM_WORLD, &eps));
-      const KrylovSchurRun ks = krylov_schur(eps, mats.K, mats.M, rigid.vectors, nev, s, n);
+      // At order 2 its CG takes the p-multigrid V-cycle too: GAMG on K crawled there.
+      if (p_multigrid) precondition = [&](Vec x, Vec y) { vcycle->apply(x, y); };
+      const KrylovSchurRun ks =
+          krylov_schur(eps, mats.K, mats.M, rigid.vectors, nev, s, n, precondition);
       out.setup_seconds += ks.setup_seconds;
       out.iterations += ks.iterations;
       const std::string lobpcg_brief = brief, ks_failed = ks.failure;
       used_eps = true;
-      out.algorithm = "SLEPc Krylov-Schur shift-invert, CG + GAMG (LOBPCG: " + lobpcg_brief + ")";
+      out.algorithm = std::string("SLEPc Krylov-Schur shift-invert, CG + ") +
+                      (p_multigrid ? "order 2 over order 1" : "GAMG") +
+                      " (LOBPCG: " + lobpcg_brief + ")";
       failed = ks_failed.empty() ? "" : ks_failed + " (after LOBPCG: " + failed + ")";
     }
     if (!failed.empty()) throw Error(failed);

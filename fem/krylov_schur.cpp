@@ -56,7 +56,20 @@ std::string failure_message(EPS eps, int nev, const Monitor& mon, long n, bool b
 
 // The fallback: Krylov-Schur on (K - σM)^-1 M, each solve by CG + GAMG. K - σM is positive
 // definite, so target 0 and the largest |θ| = 1 / (λ - σ).
-void configure_krylov_schur(EPS eps, int nev, const IterativeSettings& s, Monitor* mon) {
+PetscErrorCode apply_shell(PC pc, Vec x, Vec y) {
+  void* ctx = nullptr;
+  PCShellGetContext(pc, &ctx);
+  try {  // no exception may cross PETSc's C frames
+    (*static_cast<const VectorPreconditioner*>(ctx))(x, y);
+  } catch (const std::exception& e) {
+    return PetscError(PETSC_COMM_SELF, __LINE__, "apply_shell", __FILE__, PETSC_ERR_LIB,
+                      PETSC_ERROR_INITIAL, "%s", e.what());
+  }
+  return 0;
+}
+
+void configure_krylov_schur(EPS eps, int nev, const IterativeSettings& s, Monitor* mon,
+                            const VectorPreconditioner& precondition) {
   HEXFEM_PETSC(EPSSetProblemType(eps, EPS_GHEP));
   HEXFEM_PETSC(EPSSetDimensions(eps, nev, PETSC_DEFAULT, PETSC_DEFAULT));
   HEXFEM_PETSC(EPSMonitorSet(eps, monitor, mon, nullptr));
@@ -74,21 +87,30 @@ void configure_krylov_schur(EPS eps, int nev, const IterativeSettings& s, Monito
   HEXFEM_PETSC(STGetKSP(st, &ksp));
   HEXFEM_PETSC(KSPSetType(ksp, KSPCG));
   HEXFEM_PETSC(KSPSetTolerances(ksp, s.cg_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
-  configure_gamg(ksp, s);
+  if (precondition) {
+    PC pc;
+    HEXFEM_PETSC(KSPGetPC(ksp, &pc));
+    HEXFEM_PETSC(PCSetType(pc, PCSHELL));
+    HEXFEM_PETSC(PCShellSetContext(pc, const_cast<VectorPreconditioner*>(&precondition)));
+    HEXFEM_PETSC(PCShellSetApply(pc, apply_shell));
+  } else {
+    configure_gamg(ksp, s);
+  }
   HEXFEM_PETSC(EPSSetFromOptions(eps));  // PETSC_OPTIONS overrides
 }
 
 }  // namespace
 
 KrylovSchurRun krylov_schur(EPS eps, Mat K, Mat M, std::vector<Vec>& deflation, int nev,
-                            const IterativeSettings& s, long n) {
+                            const IterativeSettings& s, long n,
+                            const VectorPreconditioner& precondition) {
   KrylovSchurRun run;
   Monitor mon{nev};
   HEXFEM_PETSC(EPSSetOperators(eps, K, M));
   if (!deflation.empty())
     HEXFEM_PETSC(
         EPSSetDeflationSpace(eps, static_cast<PetscInt>(deflation.size()), deflation.data()));
-  configure_krylov_schur(eps, nev, s, &mon);
+  configure_krylov_schur(eps, nev, s, &mon, precondition);
   const auto t_setup = std::chrono::steady_clock::now();
   HEXFEM_PETSC(EPSSetUp(eps));
   run.setup_seconds =

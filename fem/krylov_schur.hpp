@@ -7,6 +7,7 @@
 #include <petscksp.h>
 #include <slepceps.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,11 @@ struct KrylovSchurRun {
 // The nev lowest modes of K x = λ M x (K positive definite), B-orthogonal to `deflation`, into
 // `eps` (created and destroyed by the caller, which reads the eigenpairs from it). n: the DOF
 // count, for the message. PETSc options with the prefix "ks_" tune it.
+// precondition(x, y): y = B x for CG, a symmetric positive definite approximation of K⁻¹ (the
+// LOBPCG V-cycle: at order 2 the p-multigrid, which GAMG on K is not); none: GAMG on K.
+using VectorPreconditioner = std::function<void(Vec, Vec)>;
 KrylovSchurRun krylov_schur(EPS eps, Mat K, Mat M, std::vector<Vec>& deflation, int nev,
-                            const IterativeSettings& s, long n);
+                            const IterativeSettings& s, long n,
+                            const VectorPreconditioner& precondition = {});
 
 }  // namespace hexfem

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "app/part_modal.hpp"
 #include "fem/modal_solver.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/structured_box.hpp"
@@ -142,19 +143,32 @@ TEST(Iterative, AutoPicksDirectForSmallModelsAndSaysWhy) {
 // that says how far it got (before, a breakdown surfaced as a bare LAPACK message).
 // A LOBPCG tolerance below its round-off floor: LOBPCG fails, Krylov-Schur (shift-invert, its
 // own tolerance) takes over and agrees with the direct path; the report says why it ran.
+// At order 2 the fallback's CG runs on the p-multigrid V-cycle (a shell preconditioner that SLEPc
+// applies again when it hands out the eigenvectors, after LOBPCG's block is done).
 TEST(Iterative, LobpcgBelowRoundOffFallsBackToKrylovSchur) {
-  const MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
-  ModalOptions opt = steel(10, {"face:1"}, SolverChoice::Iterative);
-  opt.iterative.tolerance = 1e-15;
-  opt.iterative.max_iterations = 300;
-  const ModalResult r = solve_modal(mesh, opt);
-  EXPECT_NE(r.eigen.algorithm.find("Krylov-Schur"), std::string::npos) << r.eigen.algorithm;
-  EXPECT_NE(r.eigen.algorithm.find("LOBPCG: "), std::string::npos) << r.eigen.algorithm;
-  opt.solver = SolverChoice::Direct;
-  const ModalResult d = solve_modal(mesh, opt);
-  ASSERT_EQ(r.frequencies.size(), d.frequencies.size());
-  for (std::size_t i = 0; i < d.frequencies.size(); ++i)
-    EXPECT_NEAR(r.frequencies[i] / d.frequencies[i], 1.0, 1e-8) << "mode " << i + 1;
+  for (const int order : {1, 2}) {
+    MixedMesh mesh = make_box_mesh({100, 10, 10}, 40, 4, 4, CellKind::Hex8);
+    if (order == 2) {
+      mesh = make_box_mesh({100, 10, 10}, 10, 2, 2, CellKind::Hex8);
+      raise_to_order2(mesh, nullptr);
+    }
+    ModalOptions opt = steel(10, {"face:1"}, SolverChoice::Iterative);
+    opt.iterative.tolerance = 1e-15;
+    opt.iterative.max_iterations = 300;
+    const ModalResult r = solve_modal(mesh, opt);
+    EXPECT_NE(r.eigen.algorithm.find("Krylov-Schur"), std::string::npos) << r.eigen.algorithm;
+    EXPECT_NE(r.eigen.algorithm.find("LOBPCG: "), std::string::npos) << r.eigen.algorithm;
+    if (order == 2) {
+      EXPECT_NE(r.eigen.algorithm.find("CG + order 2 over order 1"), std::string::npos)
+          << r.eigen.algorithm;
+    }
+    opt.solver = SolverChoice::Direct;
+    const ModalResult d = solve_modal(mesh, opt);
+    ASSERT_EQ(r.frequencies.size(), d.frequencies.size());
+    for (std::size_t i = 0; i < d.frequencies.size(); ++i)
+      EXPECT_NEAR(r.frequencies[i] / d.frequencies[i], 1.0, 1e-8)
+          << "order " << order << ", mode " << i + 1;
+  }
 }
 
 // Both methods held to tolerances they cannot meet: one line with the residual of each.
