@@ -1,7 +1,8 @@
 // The iterative path's fallback when LOBPCG fails (iterative_solver.cpp): SLEPc's Krylov-Schur on
-// (K - σM)⁻¹M (shift-and-invert), each solve by CG with the same GAMG as LOBPCG's V-cycle. Slower
-// than LOBPCG where both converge (49.5 s against 20.9 s at 94.5k DOF, solver.md §10), but it
-// has no block edge for a cluster of modes to straddle.
+// (K - σM)⁻¹M (shift-and-invert), each solve by CG with GAMG on K, or at order 2 with LOBPCG's own
+// p-multigrid V-cycle (solver.md §16). Slower than LOBPCG where both converge (49.5 s against
+// 20.9 s at 94.5k DOF, solver.md §10), but it has no block edge for a cluster of modes to
+// straddle.
 #pragma once
 
 #include <petscksp.h>
