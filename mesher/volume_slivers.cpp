@@ -295,12 +295,20 @@ std::size_t drop_flat_boundary_tets(TetMesh& tets, SurfaceMesh& surface, double 
     return Vec3{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
   };
   auto dot = [](const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-  // The flat tets, found on all threads; the serial pass below looks only at them.
+  // The flat tets with four surface corners (two surface faces span all four), found on all
+  // threads; the serial pass below looks only at them. Testing the corners first keeps the
+  // millions of flat interior tets of a large part (Propeller at h = 1) out of the hash lookups.
   std::vector<std::int32_t> flat;
   const auto nt = static_cast<std::ptrdiff_t>(tets.tets.size());
+  const auto num_surface = static_cast<std::int32_t>(sm.nodes.size());
   std::vector<char> is_flat(tets.tets.size());
 #pragma omp parallel for schedule(static, 4096)
   for (std::ptrdiff_t t = 0; t < nt; ++t) {
+    const Tet& T = tets.tets[t];
+    if (T[0] >= num_surface || T[1] >= num_surface || T[2] >= num_surface || T[3] >= num_surface) {
+      is_flat[t] = 0;
+      continue;
+    }
     Vec3 x[4];
     for (int i = 0; i < 4; ++i) x[i] = X[tets.tets[t][i]];
     is_flat[t] = min_scaled_jacobian(CellKind::Tet4, x) < flat_sj;
