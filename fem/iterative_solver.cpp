@@ -311,7 +311,8 @@ void attach_near_null_space(const MixedMesh& mesh, const DofLayout& L, double le
 }
 
 // The settings of our own LOBPCG and V-cycle, overridable at run time like PETSc's:
-// PETSC_OPTIONS="-lobpcg_extra_columns 4 -lobpcg_chebyshev_steps 1 -lobpcg_block_vcycle 0".
+// PETSC_OPTIONS="-lobpcg_extra_columns 4 -lobpcg_chebyshev_steps 1 -lobpcg_block_vcycle 0"
+// (-lobpcg_max_iterations and -lobpcg_krylov_schur 0 are for studies of LOBPCG alone).
 IterativeSettings with_option_overrides(IterativeSettings s) {
   PetscBool set = PETSC_FALSE, flag = PETSC_FALSE;
   PetscInt v = 0;
@@ -328,6 +329,10 @@ IterativeSettings with_option_overrides(IterativeSettings s) {
   if (set) s.block_vcycle = flag;
   HEXFEM_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-lobpcg_p_multigrid", &flag, &set));
   if (set) s.p_multigrid = flag;
+  HEXFEM_PETSC(PetscOptionsGetInt(nullptr, nullptr, "-lobpcg_max_iterations", &v, &set));
+  if (set) s.max_iterations = static_cast<int>(std::max<PetscInt>(1, v));
+  HEXFEM_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-lobpcg_krylov_schur", &flag, &set));
+  if (set) s.krylov_schur_fallback = flag;
   return s;
 }
 
@@ -557,6 +562,8 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     lo.block = lo_block(s, nev);
     lo.tolerance = s.tolerance;
     lo.max_iterations = s.max_iterations;
+    lo.progress_window = s.progress_window;
+    lo.max_iterations_progressing = s.max_iterations_progressing;
     lo.stall_iterations = s.stall_iterations;
     // The test of a pair (x M-normalized): |Kx - λMx| / (max(|λ|, floor) sqrt(mass per DOF)),
     // about |r|_{M^-1} / λ, dimensionless; a floor for λ ≈ 0.

@@ -218,6 +218,7 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
   const double scale = std::sqrt(o.mass_per_dof);
   bool fresh = true;  // AX and BX are exact products (not updated by combinations)
   std::vector<long> active;
+  std::vector<double> history;  // res.worst of each iteration
   for (int it = 1;; ++it) {
     // Residuals and the convergence test.
     R = AX - BX * lambda.asDiagonal();
@@ -248,9 +249,15 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
       --it;
       continue;
     }
+    history.push_back(res.worst);
     if (it > o.max_iterations) {
-      res.failure = "did not converge";
-      break;
+      const auto w = static_cast<std::size_t>(o.progress_window);
+      const bool progressing =
+          w > 0 && history.size() > w && res.worst <= 0.5 * history[history.size() - 1 - w];
+      if (!progressing || it > o.max_iterations_progressing) {
+        res.failure = "did not converge";
+        break;
+      }
     }
     if (o.stall_iterations > 0 && it > o.stall_iterations && res.converged == 0) {
       res.failure = "stalled";
