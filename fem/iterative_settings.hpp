@@ -15,9 +15,9 @@ struct IterativeSettings {
   // LOBPCG outer iterations (~30-40 needed where it converges; a cluster of modes across the
   // block's edge, as on a symmetric part, stalls it for good: then Krylov-Schur takes over).
   int max_iterations = 200;
-  // ... unless it still converges steadily: its largest error halved over the last
-  // progress_window iterations lets it go on, up to max_iterations_progressing (40mm_capot at
-  // order 2, free: 232 iterations at a steady rate, where the fallback took over 900 s).
+  // ... unless it still converges steadily: while the rate of the last progress_window
+  // iterations would reach the tolerance by max_iterations_progressing, it goes on (40mm_capot at
+  // order 2, free: 232 iterations at a steady rate where the fallback took over 900 s).
   int progress_window = 20;
   int max_iterations_progressing = 1000;
   // The fallback: Krylov-Schur on (K - σM)^-1 M (shift-and-invert), each solve by CG with the

@@ -251,9 +251,16 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
     }
     history.push_back(res.worst);
     if (it > o.max_iterations) {
+      // Go on if the rate of the last window, kept up, meets the tolerance within the budget.
       const auto w = static_cast<std::size_t>(o.progress_window);
-      const bool progressing =
-          w > 0 && history.size() > w && res.worst <= 0.5 * history[history.size() - 1 - w];
+      bool progressing = false;
+      if (w > 0 && history.size() > w && res.worst > 0) {
+        const double ratio = res.worst / history[history.size() - 1 - w];
+        if (ratio < 0.9) {
+          const double left = std::log(res.worst / o.tolerance) / -std::log(ratio) * w;
+          progressing = it + left <= o.max_iterations_progressing;
+        }
+      }
       if (!progressing || it > o.max_iterations_progressing) {
         res.failure = "did not converge";
         break;

@@ -38,9 +38,10 @@ struct LobpcgOptions {
   int block = 0;  // columns of the iterate (>= nev; 0 = nev); the extra ones only help
   double tolerance = 1e-6;
   int max_iterations = 200;
-  // Past max_iterations it goes on while it still converges steadily (the largest error of the
-  // wanted pairs at most halved over the last progress_window iterations), up to
-  // max_iterations_progressing: a thin part converges linearly but slowly, a stall does not move.
+  // Past max_iterations it goes on while it still converges steadily: the largest error of the
+  // wanted pairs fell by 10 % or more over the last progress_window iterations, and at that rate
+  // it would meet the tolerance by max_iterations_progressing. A thin part converges linearly
+  // but slowly; a stall, or a tolerance below round-off, does not move.
   int progress_window = 20;
   int max_iterations_progressing = 200;
   // Give up ("stalled") when no wanted pair has converged after this many iterations (0: never).
