@@ -131,7 +131,7 @@ TEST(Iterative, NonConvergenceIsAnErrorWithTheResidual) {
   }
 }
 
-// Past its iteration limit LOBPCG goes on while its error still halves every window (a thin
+// Past its iteration limit LOBPCG goes on while its error still falls fast enough (a thin
 // cover converges steadily in 232 iterations, where the limit of 200 handed it to a fallback
 // that took over 900 s); held to the limit it is the one-line error. The limit here is far
 // below what the cantilever needs, so both branches are taken.
