@@ -600,8 +600,10 @@ JobOutput solve_distributed(const MixedMesh& mesh, const std::vector<std::uint8_
     if (!failed.empty() && s.krylov_schur_fallback) {
       // LOBPCG stalls where a cluster of modes straddles its block; shift-and-invert does not.
       HEXFEM_PETSC(EPSCreate(PETSC_COMM_WORLD, &eps));
-      // At order 2 its CG takes the p-multigrid V-cycle too: GAMG on K crawled there.
-      if (p_multigrid) precondition = [&](Vec x, Vec y) { vcycle->apply(x, y); };
+      // Its CG takes LOBPCG's V-cycle: at order 2 the p-multigrid (GAMG on K crawled there), at
+      // order 1 GAMG's hierarchy with our smoother (PETSc's own broke down as indefinite at
+      // round-off on tie_rod, solver.md §17).
+      if (vcycle) precondition = [&](Vec x, Vec y) { vcycle->apply(x, y); };
       const KrylovSchurRun ks =
           krylov_schur(eps, mats.K, mats.M, rigid.vectors, nev, s, n, precondition);
       out.setup_seconds += ks.setup_seconds;
