@@ -312,7 +312,7 @@ void attach_near_null_space(const MixedMesh& mesh, const DofLayout& L, double le
 
 // The settings of our own LOBPCG and V-cycle, overridable at run time like PETSc's:
 // PETSC_OPTIONS="-lobpcg_extra_columns 4 -lobpcg_chebyshev_steps 1 -lobpcg_block_vcycle 0"
-// (-lobpcg_max_iterations and -lobpcg_krylov_schur 0 are for studies of LOBPCG alone).
+// (-lobpcg_max_iterations, -lobpcg_krylov_schur 0 and -lobpcg_shift_fraction are for studies).
 IterativeSettings with_option_overrides(IterativeSettings s) {
   PetscBool set = PETSC_FALSE, flag = PETSC_FALSE;
   PetscInt v = 0;
@@ -333,6 +333,8 @@ IterativeSettings with_option_overrides(IterativeSettings s) {
   if (set) s.max_iterations = static_cast<int>(std::max<PetscInt>(1, v));
   HEXFEM_PETSC(PetscOptionsGetBool(nullptr, nullptr, "-lobpcg_krylov_schur", &flag, &set));
   if (set) s.krylov_schur_fallback = flag;
+  HEXFEM_PETSC(PetscOptionsGetReal(nullptr, nullptr, "-lobpcg_shift_fraction", &r, &set));
+  if (set) s.shift_fraction = r;
   return s;
 }
 
