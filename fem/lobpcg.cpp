@@ -261,7 +261,7 @@ LobpcgResult lobpcg(const LobpcgProblem& p, const LobpcgOptions& o) {
           progressing = it + left <= o.max_iterations_progressing;
         }
       }
-      if (!progressing || it > o.max_iterations_progressing) {
+      if (!progressing) {  // past max_iterations_progressing it never is
         res.failure = "did not converge";
         break;
       }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "cad_test_util.hpp"
 #include "mesher/cad/cad_model.hpp"
@@ -79,19 +80,19 @@ TEST(SingularEdges, BadEdgeSizesAndSingularSizesAreOneLineErrors) {
   cadtest::expect_one_line_error(
       "mesh " + part + " --h 2 --size-at edge:99=1 -o " + cadtest::work("se.msh").string(),
       "no edge 99 (the part has 18 edges)");
-  cadtest::expect_one_line_error("modal " + part + " --h 2 --fix face:1 --singular-size 2",
-                                 "--singular-size must be a fraction of --h in [0, 1]");
-  cadtest::expect_one_line_error("modal " + part + " --h 2 --fix face:1 --singular-size -0.5",
-                                 "--singular-size must be a fraction of --h in [0, 1]");
+  const std::string modal = "modal " + part + " --h 2 --fix face:1 ";
+  const std::string converge = "converge " + part + " --fix face:1 ";
+  const char* range = "--singular-size must be a fraction of --h in [0, 1]";
   // -1 was the "not given" value inside: typed, it was taken as not given (a sweep found it).
-  cadtest::expect_one_line_error("modal " + part + " --h 2 --fix face:1 --singular-size -1",
-                                 "--singular-size must be a fraction of --h in [0, 1]");
-  cadtest::expect_one_line_error("modal " + part + " --h 2 --fix face:1 --curvature -1",
-                                 "--curvature must be 0 (off) or at least 3");
-  cadtest::expect_one_line_error("converge " + part + " --h 2,4,1 --fix face:1",
-                                 "--h: the sizes must go from coarse to fine");
-  cadtest::expect_one_line_error("converge " + part + " --h 2,2 --fix face:1",
-                                 "each smaller than the last (2 then 2)");
+  const std::pair<std::string, const char*> cases[] = {
+      {modal + "--singular-size 2", range},
+      {modal + "--singular-size -0.5", range},
+      {modal + "--singular-size -1", range},
+      {modal + "--curvature -1", "--curvature must be 0 (off) or at least 3"},
+      {converge + "--h 2,4,1", "--h: the sizes must go from coarse to fine"},
+      {converge + "--h 2,2", "each smaller than the last (2 then 2)"},
+  };
+  for (const auto& [command, error] : cases) cadtest::expect_one_line_error(command, error);
 }
 
 // The clamped round bar (cylinder.stp, clamped at y = 177.5), order 2, against the structured
