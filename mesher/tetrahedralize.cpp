@@ -341,19 +341,19 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
   // its centroid on the wrong side of the chords (Torus_1, relaxed points: the solid dropped).
   const std::size_t ntet = out.tets.size() / 4;
   std::vector<std::array<std::int32_t, 4>> tets(ntet);
-  for (std::size_t t = 0; t < ntet; ++t) {
+  std::vector<double> volume6(ntet);  // six times each tet's volume, once oriented
+  const auto ntet_signed = static_cast<std::ptrdiff_t>(ntet);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t t = 0; t < ntet_signed; ++t) {
     auto& T = tets[t];
     for (int i = 0; i < 4; ++i) T[i] = out.tets[4 * t + i];
-    if (orient(mesh.nodes[T[0]], mesh.nodes[T[1]], mesh.nodes[T[2]], mesh.nodes[T[3]]) < 0)
-      std::swap(T[2], T[3]);
+    const double o = orient(mesh.nodes[T[0]], mesh.nodes[T[1]], mesh.nodes[T[2]], mesh.nodes[T[3]]);
+    if (o < 0) std::swap(T[2], T[3]);
+    volume6[t] = std::abs(o);
   }
   std::vector<std::int32_t> region(ntet, -1);
   std::vector<std::size_t> region_largest;  // per region: its tet of largest volume
   std::vector<std::size_t> stack;
-  auto volume6 = [&](std::size_t t) {
-    return orient(mesh.nodes[tets[t][0]], mesh.nodes[tets[t][1]], mesh.nodes[tets[t][2]],
-                  mesh.nodes[tets[t][3]]);
-  };
   for (std::size_t seed = 0; seed < ntet; ++seed) {
     if (region[seed] >= 0) continue;
     const auto r = static_cast<std::int32_t>(region_largest.size());
@@ -364,7 +364,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
     while (!stack.empty()) {
       const std::size_t t = stack.back();
       stack.pop_back();
-      if (const double v = volume6(t); v > largest) {
+      if (const double v = volume6[t]; v > largest) {
         largest = v;
         region_largest[r] = t;
       }
@@ -394,6 +394,8 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
       for (int a = 0; a < 3; ++a) c[a] += 0.25 * mesh.nodes[tets[region_largest[r]][i]][a];
     region_solid[r] = locator.locate(c);
   }
+  mesh.tets.reserve(ntet);
+  mesh.tet_solid.reserve(ntet);
   for (std::size_t t = 0; t < ntet; ++t) {
     const int s = region_solid[region[t]];
     if (s == 0) {
