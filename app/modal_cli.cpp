@@ -59,7 +59,8 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
   o.singular_size_given = sub.add_option(
       "--singular-size", o.singular_size,
       "CAD input: size at re-entrant edges and at the rim of clamped faces, a fraction "
-      "of --h, e.g. 0.25 (default: off)");
+      "of --h, e.g. 0.25; 0 = off. Default: re-entrant edges only, at 0.5 at order 2; off at "
+      "order 1");
   sub.add_flag("--no-pyramids", o.no_pyramids,
                "CAD input: make no pyramids (a quad face against two triangles stays NC; tied at "
                "order 2)");
@@ -94,7 +95,7 @@ std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::s
 }
 
 std::string GradedEdges::note() const {
-  if (fraction <= 0) return "";
+  if (fraction <= 0 || (reentrant.empty() && rim.empty())) return "";
   char buf[160];
   std::snprintf(buf, sizeof buf,
                 "graded to %g h at singular edges: %zu re-entrant, %zu on the clamped faces' rim",
@@ -107,11 +108,17 @@ GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad)
     throw Error("--singular-size must be a fraction of --h in [0, 1] (0 = off), got " +
                 std::to_string(o.singular_size));
   GradedEdges g;
-  g.fraction = given(o.singular_size_given) ? o.singular_size : 0.0;
-  if (g.fraction > 0) {
+  if (given(o.singular_size_given)) {
+    g.fraction = o.singular_size;
+    if (g.fraction > 0) {
+      g.reentrant = reentrant_edges(cad);
+      g.rim = rim_edges(cad, clamped_cad_faces(cad, o.fix));
+    }
+  } else if (o.order == 2) {
+    g.fraction = kOrder2ReentrantSize;
     g.reentrant = reentrant_edges(cad);
-    g.rim = rim_edges(cad, clamped_cad_faces(cad, o.fix));
   }
+  if (g.reentrant.empty() && g.rim.empty()) g.fraction = 0;  // nothing graded: say nothing
   return g;
 }
 

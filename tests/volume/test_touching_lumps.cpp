@@ -70,8 +70,8 @@ TEST(TouchingLumps, ASolidWhoseLumpsTouchAlongAnEdgeMeshesAndVibratesAsOneBody) 
   for (int k = 0; k < 4; ++k) {
     const double f = modal["modes"][6 + k]["frequency_hz"].get<double>();
     const double f_ref = ref["reference_hz"][k].get<double>();
-    // Order 2 at this size is above the reference by +0.9 to +1.4 % (measured); the reference is
-    // good to 0.15-0.23 %.
+    // Order 2 at this size, its re-entrant edges graded by default, is above the reference by
+    // +0.66 to +0.97 % (measured; +0.9 to +1.4 % uniform); the reference is good to 0.15-0.23 %.
     EXPECT_GT(f, f_ref * 0.995) << "elastic mode " << k + 1;
     EXPECT_LT(f, f_ref * 1.02) << "elastic mode " << k + 1;
   }
