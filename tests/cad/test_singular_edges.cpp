@@ -29,6 +29,20 @@ bool is_inner_corner(const CadModel& cad, int e) {
   return true;
 }
 
+// The reference frequencies of validation/reference/NAME.
+nlohmann::json reference_hz(const std::string& name) {
+  std::ifstream in(std::string(HEXFEM_SOURCE_DIR) + "/validation/reference/" + name);
+  return nlohmann::json::parse(in)["reference_hz"];
+}
+
+// The JSON of a CLI run that must succeed.
+nlohmann::json run_json(const std::string& args) {
+  int rc = 0;
+  nlohmann::json j = cadtest::run_cli_json(args, &rc);
+  EXPECT_EQ(rc, 0) << args << "\n" << j;
+  return j;
+}
+
 TEST(SingularEdges, TheInnerCornerOfAnLBlockIsItsOnlyReentrantEdge) {
   const CadModel cad = CadModel::read(data("l_block.step"));
   const std::vector<int> edges = reentrant_edges(cad);
@@ -100,8 +114,7 @@ TEST(SingularEdges, BadEdgeSizesAndSingularSizesAreOneLineErrors) {
 // rim, a mesh of half the DOF is more accurate than the uniform one (validation/order2.md,
 // "Graded towards the singular edges": 7,350 DOF at 0.125 % against 15,630 at 0.139 %).
 TEST(SingularEdges, GradedTowardsTheClampARoundBarNeedsFewerDofs) {
-  std::ifstream in(std::string(HEXFEM_SOURCE_DIR) + "/validation/reference/cylinder_c20.json");
-  const auto ref = nlohmann::json::parse(in)["reference_hz"];
+  const auto ref = reference_hz("cylinder_c20.json");
   auto max_error = [&](const nlohmann::json& j) {
     double e = 0;
     for (int m = 0; m < 4; ++m)
@@ -110,11 +123,8 @@ TEST(SingularEdges, GradedTowardsTheClampARoundBarNeedsFewerDofs) {
     return e;
   };
   const std::string base = "modal " + data("cylinder.stp") + " --fix 'y<177.501' --modes 4 --json";
-  int rc = 0;
-  const auto uniform = cadtest::run_cli_json(base + " --h 2", &rc);
-  ASSERT_EQ(rc, 0) << uniform;
-  const auto graded = cadtest::run_cli_json(base + " --h 5.66 --singular-size 0.25", &rc);
-  ASSERT_EQ(rc, 0) << graded;
+  const auto uniform = run_json(base + " --h 2");
+  const auto graded = run_json(base + " --h 5.66 --singular-size 0.25");
   // The clamp face is a disk: its rim is its one circle; a cylinder has no re-entrant edge.
   EXPECT_EQ(graded["mesh"]["singular_edges"]["clamp_rim"].size(), 1u);
   EXPECT_TRUE(graded["mesh"]["singular_edges"]["reentrant"].empty());
@@ -130,23 +140,18 @@ TEST(SingularEdges, GradedTowardsTheClampARoundBarNeedsFewerDofs) {
 TEST(SingularEdges, ReentrantEdgesAloneAreGradedByDefaultAtOrderTwo) {
   const int inner = reentrant_edges(CadModel::read(data("l_block.step"))).at(0);
   const std::string base = "modal " + data("l_block.step") + " --h 2 --fix face:4 --modes 4 --json";
-  int rc = 0;
-  const auto by_default = cadtest::run_cli_json(base, &rc);
-  ASSERT_EQ(rc, 0) << by_default;
+  const auto by_default = run_json(base);
   const auto& graded = by_default["mesh"]["singular_edges"];
   EXPECT_EQ(graded["fraction_of_h"].get<double>(), 0.5);
   EXPECT_EQ(graded["reentrant"], nlohmann::json::array({inner}));
   EXPECT_TRUE(graded["clamp_rim"].empty());
-  const auto off = cadtest::run_cli_json(base + " --singular-size 0", &rc);
-  ASSERT_EQ(rc, 0) << off;
+  const auto off = run_json(base + " --singular-size 0");
   EXPECT_FALSE(off["mesh"].contains("singular_edges"));
   EXPECT_LT(off["free_dofs"].get<long>(), by_default["free_dofs"].get<long>());
-  const auto order1 = cadtest::run_cli_json(base + " --order 1", &rc);
-  ASSERT_EQ(rc, 0) << order1;
+  const auto order1 = run_json(base + " --order 1");
   EXPECT_FALSE(order1["mesh"].contains("singular_edges"));
   // Given, it grades the clamped face's rim too: the bottom's four edges.
-  const auto given = cadtest::run_cli_json(base + " --singular-size 0.25", &rc);
-  ASSERT_EQ(rc, 0) << given;
+  const auto given = run_json(base + " --singular-size 0.25");
   EXPECT_EQ(given["mesh"]["singular_edges"]["fraction_of_h"].get<double>(), 0.25);
   EXPECT_EQ(given["mesh"]["singular_edges"]["clamp_rim"].size(), 4u);
 }
@@ -157,14 +162,10 @@ TEST(SingularEdges, ReentrantEdgesAloneAreGradedByDefaultAtOrderTwo) {
 // h = 0.7 (94,431 DOF), that is nearer the converged values, which both approach from above
 // (validation/order2.md, "Re-entrant edges graded by default": max error 0.42 % against 0.59 %).
 TEST(SingularEdges, TheGradedHousingIsMoreAccurateWithFewerDofs) {
-  std::ifstream in(std::string(HEXFEM_SOURCE_DIR) + "/validation/reference/gehause_free.json");
-  const auto ref = nlohmann::json::parse(in)["reference_hz"];
+  const auto ref = reference_hz("gehause_free.json");
   const std::string base = "modal " + data("gehause_rohteil.stp") + " --free --modes 10 --json";
-  int rc = 0;
-  const auto graded = cadtest::run_cli_json(base + " --h 0.93", &rc);
-  ASSERT_EQ(rc, 0) << graded;
-  const auto uniform = cadtest::run_cli_json(base + " --h 0.7 --singular-size 0", &rc);
-  ASSERT_EQ(rc, 0) << uniform;
+  const auto graded = run_json(base + " --h 0.93");
+  const auto uniform = run_json(base + " --h 0.7 --singular-size 0");
   EXPECT_EQ(graded["mesh"]["singular_edges"]["reentrant"].size(), 34u);
   EXPECT_LT(graded["free_dofs"].get<long>(), uniform["free_dofs"].get<long>());
   for (int k = 0; k < 4; ++k) {
