@@ -230,7 +230,8 @@ int run(const Args& a) {
       if (graded.fraction > 0)
         j["mesh"]["singular_edges"] = {{"fraction_of_h", graded.fraction},
                                        {"reentrant", graded.reentrant},
-                                       {"clamp_rim", graded.rim}};
+                                       {"clamp_rim", graded.rim},
+                                       {"by_default", graded.by_default}};
       j["mesh"]["report"] = part.mesh_report;  // the mesher's report, as `hexfem mesh --json`
       j["mesh"]["mesh_seconds"] = part.mesh_seconds;
       j["mesh"]["peak_memory_bytes"] = part.mesh_peak_bytes;

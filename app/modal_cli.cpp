@@ -96,10 +96,11 @@ std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::s
 
 std::string GradedEdges::note() const {
   if (fraction <= 0 || (reentrant.empty() && rim.empty())) return "";
-  char buf[160];
+  char buf[200];
   std::snprintf(buf, sizeof buf,
-                "graded to %g h at singular edges: %zu re-entrant, %zu on the clamped faces' rim",
-                fraction, reentrant.size(), rim.size());
+                "graded to %g h at singular edges: %zu re-entrant, %zu on the clamped faces' rim%s",
+                fraction, reentrant.size(), rim.size(),
+                by_default ? " (order 2's default; --singular-size 0: none)" : "");
   return buf;
 }
 
@@ -117,6 +118,7 @@ GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad)
   } else if (o.order == 2) {
     g.fraction = kOrder2ReentrantSize;
     g.reentrant = reentrant_edges(cad);
+    g.by_default = true;
   }
   if (g.reentrant.empty() && g.rim.empty()) g.fraction = 0;  // nothing graded: say nothing
   return g;

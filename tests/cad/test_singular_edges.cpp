@@ -145,6 +145,7 @@ TEST(SingularEdges, ReentrantEdgesAloneAreGradedByDefaultAtOrderTwo) {
   EXPECT_EQ(graded["fraction_of_h"].get<double>(), 0.5);
   EXPECT_EQ(graded["reentrant"], nlohmann::json::array({inner}));
   EXPECT_TRUE(graded["clamp_rim"].empty());
+  EXPECT_TRUE(graded["by_default"].get<bool>());
   const auto off = run_json(base + " --singular-size 0");
   EXPECT_FALSE(off["mesh"].contains("singular_edges"));
   EXPECT_LT(off["free_dofs"].get<long>(), by_default["free_dofs"].get<long>());
@@ -154,6 +155,7 @@ TEST(SingularEdges, ReentrantEdgesAloneAreGradedByDefaultAtOrderTwo) {
   const auto given = run_json(base + " --singular-size 0.25");
   EXPECT_EQ(given["mesh"]["singular_edges"]["fraction_of_h"].get<double>(), 0.25);
   EXPECT_EQ(given["mesh"]["singular_edges"]["clamp_rim"].size(), 4u);
+  EXPECT_FALSE(given["mesh"]["singular_edges"]["by_default"].get<bool>());
 }
 
 // The housing gehause_rohteil, free-free (34 re-entrant edges), against the tet10 chain's
