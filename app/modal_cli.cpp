@@ -95,7 +95,7 @@ std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::s
 }
 
 std::string GradedEdges::note() const {
-  if (fraction <= 0 || (reentrant.empty() && rim.empty())) return "";
+  if (fraction <= 0) return "";
   char buf[200];
   std::snprintf(buf, sizeof buf,
                 "graded to %g h at singular edges: %zu re-entrant, %zu on the clamped faces' rim%s",
@@ -109,16 +109,11 @@ GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad)
     throw Error("--singular-size must be a fraction of --h in [0, 1] (0 = off), got " +
                 std::to_string(o.singular_size));
   GradedEdges g;
-  if (given(o.singular_size_given)) {
-    g.fraction = o.singular_size;
-    if (g.fraction > 0) {
-      g.reentrant = reentrant_edges(cad);
-      g.rim = rim_edges(cad, clamped_cad_faces(cad, o.fix));
-    }
-  } else if (o.order == 2) {
-    g.fraction = kOrder2ReentrantSize;
+  g.by_default = !given(o.singular_size_given);
+  g.fraction = !g.by_default ? o.singular_size : o.order == 2 ? kOrder2ReentrantSize : 0.0;
+  if (g.fraction > 0) {
     g.reentrant = reentrant_edges(cad);
-    g.by_default = true;
+    if (!g.by_default) g.rim = rim_edges(cad, clamped_cad_faces(cad, o.fix));
   }
   if (g.reentrant.empty() && g.rim.empty()) g.fraction = 0;  // nothing graded: say nothing
   return g;

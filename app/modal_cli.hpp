@@ -105,7 +105,7 @@ std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::s
 struct GradedEdges {
   std::vector<int> reentrant, rim;
   double fraction = 0;
-  bool by_default = false;  // order 2's default, not --singular-size
+  bool by_default = false;  // --singular-size not given: the order's default
   std::string note() const;
 };
 GradedEdges singular_edges_graded(const ModalCliOptions& o, const CadModel& cad);
