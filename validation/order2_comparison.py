@@ -62,6 +62,11 @@ MODELS = {
     "torus": {"step": os.path.join(SHARED, "Torus_1.brep"), "free": True,
               "reference": "torus.json", "order1": [40, 28.284271, 20, 14.142136],
               "order2": [60, 50, 40, 30, 20], "tet10": [60, 50, 40, 30, 20]},
+    # the same cylinder free-free: no clamp, so no singular edge (the convex 90-degree rims are
+    # not singular); reference: the structured C3D20 O-grid, free (reference/cylinder_c20.py)
+    "cylinder_free": {"step": os.path.join(SHARED, "cylinder.stp"), "free": True,
+                      "reference": "cylinder_free_c20.json", "order1": [2, 1.4142136, 1, 0.7071068],
+                      "order2": [4, 2.8284271, 2, 1.4142136], "tet10": [4, 3.2, 2.5, 2, 1.6]},
     # the cylinder with the clamp face (CAD face 3, y = 177.5) graded in both chains
     "cylinder_graded": {"step": os.path.join(SHARED, "cylinder.stp"), "fix": "y<177.501",
                         "axis": "y", "clamp_face": 3, "clamp_fraction": 0.5,

@@ -9,8 +9,16 @@ steel). Richardson over N = 6, 8, 12 gives f1 = f2 = 5182.13 Hz (the chain's cyl
   e.g. 6 3 12 2 g_6; 8 4 16 2 g_8; 12 6 24 2 g_12   (core divisions, ring, axial, grading)
   /usr/bin/python3 validation/reference/cylinder_c20.py summarize OUT.json OUTDIR g_6 g_8 g_12
       writes OUT.json (validation/reference/cylinder_c20.json) from those runs
+
+Free-free (REFERENCE_FREE=1, as for reference_chain.py; no singular edge, so no grading: Q = 1):
+no *BOUNDARY, ccx asked for 6 more modes, the six rigid-body ones checked and dropped.
+  REFERENCE_FREE=1 ... cylinder_c20.py 4 2 8 1 f_4; 6 3 12 1 f_6; 8 4 16 1 f_8
+  REFERENCE_FREE=1 ... cylinder_c20.py summarize validation/reference/cylinder_free_c20.json OUTDIR f_4 f_6 f_8
 """
 import numpy as np, sys, subprocess, os, time, json
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import reference_chain as chain
+FREE = chain.free_free()
 R=6.752432; L=42.5; CX=-67.75; CZ=-267.5; Y0=177.5
 
 
@@ -25,7 +33,7 @@ def mode_kinds(dat):
         if not p or not p[0].isdigit():
             break
         rows.append([float(v) for v in p[1:4]])
-    t = np.array(rows)
+    t = np.array(rows[chain.NRIGID:] if FREE else rows)
     scale = t.max()
     return ['torsion' if r.max() < 1e-6 * scale else 'axial' if r.argmax() == 1 else 'bending'
             for r in t]
@@ -36,8 +44,6 @@ def summarize(out, rundir, names):
     Richardson over the two finest grids with reference_chain.summarize (observed order where
     1 <= p <= 6, 1.5 below an observed 1, else 4; uncertainty: the spread to the finest run and
     to p = 1.5 and 4). h = L / NY, the nominal axial size (all divisions scale together)."""
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import reference_chain as chain
     runs = []
     for nm in names:
         r = json.load(open(os.path.join(rundir, nm + '.json')))
@@ -45,18 +51,25 @@ def summarize(out, rundir, names):
         secs = float(log[log.index('Time:') + 1]) if 'Time:' in log else None
         runs.append({'h': L / r['ny'], 'grid': {k: r[k] for k in ('n', 'm', 'ny', 'q')},
                      'elements': r['ny'] * (r['n'] ** 2 + 4 * r['n'] * r['m']), 'dofs': r['dof'],
-                     'frequencies_hz': r['f'], 'modes': mode_kinds(os.path.join(rundir, nm + '.dat')),
+                     'frequencies_hz': r['f'],
+                     # free-free, no elastic mode has translational effective mass: not named
+                     'modes': None if FREE else mode_kinds(os.path.join(rundir, nm + '.dat')),
                      'seconds_ccx': secs, 'seconds_total': secs,
-                     'command': 'validation/reference/cylinder_c20.py %d %d %d %g %s'
+                     'command': ('REFERENCE_FREE=1 ' if FREE else '') +
+                                'validation/reference/cylinder_c20.py %d %d %d %g %s'
                                 % (r['n'], r['m'], r['ny'], r['q'], nm)})
-    doc = {'what': 'cylinder.stp (shared models; R 6.752432, L 42.5 along y), steel, clamped on the '
-                   'end face y = 177.5: structured O-grid of C3D20 graded towards the clamp and '
-                   'the surface (cylinder_c20.py), Richardson over the two finest grids',
-           'command': 'validation/reference/cylinder_c20.py summarize ' + ' '.join([out, rundir] + names),
+    what = ('free-free: structured O-grid of C3D20, uniform (cylinder_c20.py, REFERENCE_FREE=1)'
+            if FREE else 'clamped on the end face y = 177.5: structured O-grid of C3D20 graded '
+            'towards the clamp and the surface (cylinder_c20.py)')
+    doc = {'what': 'cylinder.stp (shared models; R 6.752432, L 42.5 along y), steel, ' + what +
+                   ', Richardson over the two finest grids',
+           'command': ('REFERENCE_FREE=1 ' if FREE else '') +
+                      'validation/reference/cylinder_c20.py summarize ' + ' '.join([out, rundir] + names),
            'geometry': '/work/shared/models/cylinder.stp (rebuilt analytically: exact circle)',
            'units': 'mm, N, t (tonne), s: E in MPa, density in t/mm^3, frequencies in Hz',
            'material': {'E_MPa': 210000.0, 'nu': 0.3, 'density_t_per_mm3': 7.85e-9},
-           'boundary': 'all nodes with y = 177.5 (= min y) fixed in x, y, z',
+           'boundary': ('free-free (no fixed DOF); the six rigid-body modes dropped' if FREE else
+                        'all nodes with y = 177.5 (= min y) fixed in x, y, z'),
            'element': 'CalculiX C3D20 (full integration), core block + 4 ring blocks, mid-edge '
                       'nodes on the exact circle; h = L / NY (nominal axial size)',
            'versions': chain.tool_versions(), 'runs': runs}
@@ -64,11 +77,13 @@ def summarize(out, rundir, names):
     kinds = [r['modes'] for r in doc['runs']]
     if any(k != kinds[0] for k in kinds):
         sys.exit('mode order differs between grids: %s' % kinds)
-    doc['reference_modes'] = kinds[0]
+    if not FREE:
+        doc['reference_modes'] = kinds[0]
     with open(out, 'w') as f:
         json.dump(doc, f, indent=2)
         f.write('\n')
-    print('modes:', ', '.join(kinds[0]))
+    if not FREE:
+        print('modes:', ', '.join(kinds[0]))
     print('wrote', out)
 
 
@@ -131,15 +146,20 @@ with open(name+'.inp','w') as f:
     f.write('*NODE\n'); [f.write('%d,%.12g,%.12g,%.12g\n'%(i+1,*x)) for i,x in enumerate(X)]
     f.write('*ELEMENT,TYPE=C3D20,ELSET=E\n')
     for i,e in enumerate(els): s=[str(v) for v in e]; f.write('%d,%s,\n%s\n'%(i+1,','.join(s[:15]),','.join(s[15:])))
-    fix=[i+1 for i in range(len(X)) if abs(X[i,1]-Y0)<1e-9]
-    f.write('*NSET,NSET=FIX\n'); [f.write('%d,\n'%i) for i in fix]
-    f.write('*BOUNDARY\nFIX,1,3\n*MATERIAL,NAME=S\n*ELASTIC\n210000,0.3\n*DENSITY\n7.85e-9\n*SOLID SECTION,ELSET=E,MATERIAL=S\n*STEP\n*FREQUENCY\n6\n*END STEP\n')
+    fix=[] if FREE else [i+1 for i in range(len(X)) if abs(X[i,1]-Y0)<1e-9]
+    if fix:
+        f.write('*NSET,NSET=FIX\n'); [f.write('%d,\n'%i) for i in fix]
+        f.write('*BOUNDARY\nFIX,1,3\n')
+    nfreq=6+(chain.NRIGID if FREE else 0)
+    f.write('*MATERIAL,NAME=S\n*ELASTIC\n210000,0.3\n*DENSITY\n7.85e-9\n*SOLID SECTION,ELSET=E,MATERIAL=S\n*STEP\n*FREQUENCY\n%d\n*END STEP\n'%nfreq)
 print('nodes',len(X),'els',len(els),'dof',3*(len(X)-len(fix)),'max|r-R| on surface', np.abs(rr[rr>R-1e-3]-R).max(),flush=True)
 t=time.time(); subprocess.run(['ccx','-i',name],stdout=open(name+'.log','w'),env=dict(os.environ,OMP_NUM_THREADS='1'))
 txt=open(name+'.dat').read().split('\n'); fr=[]
 for i,l in enumerate(txt):
     if 'E I G E N V A L U E   O U T P U T' in l:
-        for ll in txt[i+6:i+12]: fr.append(float(ll.split()[3]))
+        for ll in txt[i+6:i+6+nfreq]: fr.append(float(ll.split()[3]))
         break
+if FREE:
+    fr,_=chain.split_rigid(fr,6,name)
 print(name,'ccx %.1f s'%(time.time()-t),' '.join('%.3f'%x for x in fr))
 json.dump(dict(n=n,m=m,ny=ny,q=q,dof=3*(len(X)-len(fix)),elements=len(els),f=fr),open(name+'.json','w'))
