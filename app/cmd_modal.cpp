@@ -283,12 +283,14 @@ int run(const Args& a) {
   else if (mesh.order == 2)
     std::printf(
         "order 2   %ld mid-edge nodes, %ld on the boundary, %ld curved onto the CAD geometry "
-        "(largest offset %.3f edge lengths, %ld projections refused), %ld cells straightened; "
+        "(largest offset %.3f edge lengths, %ld projections refused), %ld cells bent to follow "
+        "it, %ld straightened; "
         "NC faces' hanging nodes: %ld placed on their quad, %ld kept; %ld NC faces made "
         "conformal\n",
         part.order2.edge_nodes, part.order2.boundary_nodes, part.order2.curved_nodes,
-        part.order2.max_offset, part.order2.projection_refused, part.order2.straightened_cells,
-        part.order2.hanging_placed, part.order2.hanging_kept, part.order2.nc_made_conformal);
+        part.order2.max_offset, part.order2.projection_refused, part.order2.bent_cells,
+        part.order2.straightened_cells, part.order2.hanging_placed, part.order2.hanging_kept,
+        part.order2.nc_made_conformal);
   std::printf("units     lengths in %s (x %g -> m), material in SI, frequencies in Hz\n",
               shown.name == "SI" ? "m" : "mm", shown.scale);
   std::printf("material  %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", mat.base.name.c_str(),

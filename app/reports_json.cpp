@@ -123,6 +123,7 @@ void to_json(nlohmann::json& j, const Order2Report& r) {
        {"curved_nodes", r.curved_nodes},
        {"projection_refused", r.projection_refused},
        {"max_offset", r.max_offset},
+       {"bent_cells", r.bent_cells},
        {"straightened_cells", r.straightened_cells},
        {"hanging_placed", r.hanging_placed},
        {"hanging_kept", r.hanging_kept},

@@ -47,10 +47,11 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
   if (a.order == 2)
     std::printf(
         "order 2: %ld mid-edge nodes, %ld on the boundary, %ld curved onto the CAD geometry "
-        "(largest offset %.3f edge lengths), %ld cells straightened; NC faces' hanging nodes: "
+        "(largest offset %.3f edge lengths), %ld cells bent to follow it, %ld straightened; NC "
+        "faces' hanging nodes: "
         "%ld placed on their quad, %ld kept; %ld NC faces made conformal\n",
         order2.edge_nodes, order2.boundary_nodes, order2.curved_nodes, order2.max_offset,
-        order2.straightened_cells, order2.hanging_placed, order2.hanging_kept,
+        order2.bent_cells, order2.straightened_cells, order2.hanging_placed, order2.hanging_kept,
         order2.nc_made_conformal);
   if (!a.output.empty()) std::printf("wrote %s (%.3f s)\n", a.output.c_str(), write_seconds);
   for (const std::string& w : report.warnings)

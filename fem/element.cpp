@@ -213,13 +213,43 @@ const ReferenceElement& validity_samples(CellKind kind, int order) {
   return table[order == 2][static_cast<int>(kind)];
 }
 
-}  // namespace
+// A lattice of 5 points per direction over the order-2 reference cell (spacing a quarter of
+// the cell, faces and edges included; the pyramid's top layer at 0.99 of the axis), tabulated once:
+// between the production points a curved cell's det J can dip where they do not see it.
+const ReferenceElement& lattice_samples(CellKind kind) {
+  static const auto make = [](CellKind k) {
+    QuadRule rule;
+    for (int i = 0; i <= 4; ++i)
+      for (int j = 0; j <= 4; ++j)
+        for (int l = 0; l <= 4; ++l) {
+          const double a = i / 4.0, b = j / 4.0, c = l / 4.0;
+          switch (k) {
+            case CellKind::Hex8:
+              rule.push_back({{2 * a - 1, 2 * b - 1, 2 * c - 1}, 1.0});
+              break;
+            case CellKind::Wedge6:
+              if (i + j <= 4) rule.push_back({{a, b, 2 * c - 1}, 1.0});
+              break;
+            case CellKind::Tet4:
+              if (i + j + l <= 4) rule.push_back({{a, b, c}, 1.0});
+              break;
+            case CellKind::Pyramid5: {
+              const double z = std::min(c, 0.99), w = 1 - z;
+              rule.push_back({{w * (2 * a - 1), w * (2 * b - 1), z}, 1.0});
+              break;
+            }
+          }
+        }
+    return tabulate(k, 2, rule);
+  };
+  static const ReferenceElement table[kNumCellKinds] = {
+      make(CellKind::Tet4), make(CellKind::Pyramid5), make(CellKind::Wedge6), make(CellKind::Hex8)};
+  return table[static_cast<int>(kind)];
+}
 
-double element_jacobian_ratio(const MixedMesh& mesh, std::size_t c) {
-  const ReferenceElement& ref = validity_samples(mesh.cell_kind[c], mesh.order);
-  std::int32_t ids[kMaxElementNodes];
-  mesh.element_nodes(c, ids);
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+// min and max of det J over the samples of `ref`, folded into lo and hi.
+void jacobian_range(const ReferenceElement& ref, const MixedMesh& mesh, const std::int32_t* ids,
+                    double& lo, double& hi) {
   for (const ShapeValues& s : ref.shape) {
     double J[3][3] = {};
     for (int i = 0; i < s.n; ++i)
@@ -231,6 +261,26 @@ double element_jacobian_ratio(const MixedMesh& mesh, std::size_t c) {
     lo = std::min(lo, det);
     hi = std::max(hi, det);
   }
+}
+
+}  // namespace
+
+double element_jacobian_ratio(const MixedMesh& mesh, std::size_t c) {
+  std::int32_t ids[kMaxElementNodes];
+  mesh.element_nodes(c, ids);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  jacobian_range(validity_samples(mesh.cell_kind[c], mesh.order), mesh, ids, lo, hi);
+  // Only a cell that is already far from affine there can dip below 0 between those points.
+  if (mesh.order == 2 && !(hi > 0 && lo >= kLatticeCheckBelow * hi))
+    jacobian_range(lattice_samples(mesh.cell_kind[c]), mesh, ids, lo, hi);
+  return hi > 0 ? lo / hi : -1.0;
+}
+
+double element_jacobian_ratio_at_nodes_and_points(const MixedMesh& mesh, std::size_t c) {
+  std::int32_t ids[kMaxElementNodes];
+  mesh.element_nodes(c, ids);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  jacobian_range(validity_samples(mesh.cell_kind[c], mesh.order), mesh, ids, lo, hi);
   return hi > 0 ? lo / hi : -1.0;
 }
 

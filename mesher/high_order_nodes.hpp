@@ -16,6 +16,8 @@ struct Order2Report {
   long curved_nodes = 0;        // boundary nodes the geometry moved off the straight midpoint
   long projection_refused = 0;  // boundary nodes left straight: the projection jumped too far
   double max_offset = 0;        // largest |node - midpoint| / edge length
+  long bent_cells = 0;          // cells made valid by moving interior mid-edge nodes instead
+  long bent_nodes = 0;          // interior mid-edge nodes moved for them
   long straightened_cells = 0;  // cells made valid by setting their curved nodes back straight
   long straightened_nodes = 0;
   long hanging_placed = 0;     // NC faces' mid-diagonal nodes moved onto their quad's surface
@@ -35,6 +37,17 @@ void add_mid_edge_nodes(MixedMesh& mesh, const MidEdgeProjector& project = {},
 
 // Cell c's worst Jacobian: min det J / max det J over its sample points (<= 0: inverted).
 using CellJacobianRatio = std::function<double(const MixedMesh& mesh, std::size_t c)>;
+
+// Curving a boundary edge can invert a thin cell behind it. Before anything is straightened, each
+// cell whose ratio is below `min_ratio` has its interior mid-edge nodes (not on the boundary)
+// moved, by a coordinate search that raises the worst ratio of the cells around them, so that
+// the cell follows the curved boundary. The corners and the boundary nodes stay where they are.
+// A cell that cannot be brought to min_ratio this way has its moves undone (and is left to
+// straighten_invalid_cells). Deterministic: the cells in order, a fixed search pattern. The
+// search itself uses `search_ratio` (a cheaper check, e.g. at fewer points); `ratio` decides.
+void bend_interior_nodes(MixedMesh& mesh, const CellJacobianRatio& ratio,
+                         const CellJacobianRatio& search_ratio, double min_ratio,
+                         Order2Report* report = nullptr);
 
 // Every cell whose ratio is below `min_ratio` gets its curved nodes set back to their edges'
 // midpoints (so do its neighbours' shared edges), while that raises its ratio; repeated until
