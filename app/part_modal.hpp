@@ -36,7 +36,7 @@ PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_opti
                                ModalOptions modal_options, bool force = false, int order = 1);
 
 // Makes an order-1 mesh order 2: mid-edge nodes, the boundary ones on the CAD geometry when
-// `cad` is given; a cell whose curving would leave min/max det J below 1e-3 first has its
+// `cad` is given; a cell whose curving would leave min/max det J below 1e-4 first has its
 // interior mid-edge nodes moved to follow the boundary, and is straightened only if that fails.
 Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad);
 

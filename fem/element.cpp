@@ -1,8 +1,10 @@
 #include "fem/element.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
+#include "fem/jacobian_bounds.hpp"
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
 
@@ -258,6 +260,10 @@ void jacobian_range(const ReferenceElement& ref, const MixedMesh& mesh, const st
     const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
                        J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
                        J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+    if (!std::isfinite(det)) {  // a basis undefined there: never read as valid
+      lo = -std::numeric_limits<double>::infinity();
+      continue;
+    }
     lo = std::min(lo, det);
     hi = std::max(hi, det);
   }
@@ -271,8 +277,15 @@ double element_jacobian_ratio(const MixedMesh& mesh, std::size_t c) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   jacobian_range(validity_samples(mesh.cell_kind[c], mesh.order), mesh, ids, lo, hi);
   // Only a cell that is already far from affine there can dip below 0 between those points.
-  if (mesh.order == 2 && !(hi > 0 && lo >= kLatticeCheckBelow * hi))
-    jacobian_range(lattice_samples(mesh.cell_kind[c]), mesh, ids, lo, hi);
+  if (mesh.order == 2 && !(hi > 0 && lo >= kLatticeCheckBelow * hi)) {
+    const auto bound = order2_jacobian_bound(mesh, mesh.cell_kind[c], ids);
+    if (bound && !(bound->lower > 0)) {  // not proven positive: read as inverted
+      lo = std::min(lo, bound->lower);
+      hi = std::max(hi, bound->max_det);
+    } else {  // proven positive (tet10, hex20) or not provable (wedge15, pyramid13): samples
+      jacobian_range(lattice_samples(mesh.cell_kind[c]), mesh, ids, lo, hi);
+    }
+  }
   return hi > 0 ? lo / hi : -1.0;
 }
 

@@ -77,8 +77,11 @@ std::vector<Vec3> reference_nodes(CellKind kind, int order);
 
 // Validity of cell c of the mesh at its order: min det J / max det J over the production rule's
 // points and the nodes (the pyramid apex, where the rational basis is 0/0, replaced by the point
-// at 0.99 of the axis); an order-2 cell whose ratio there is below kLatticeCheckBelow is also
-// sampled on a lattice of 5 points per direction (125 in a hex). <= 0: inverted somewhere.
+// at 0.99 of the axis). An order-2 cell whose ratio there is below kLatticeCheckBelow is also
+// sampled on a lattice of 5 points per direction (125 in a hex), and a tet10 or hex20 must
+// besides be proven valid by the lower bound of its Bernstein coefficients
+// (fem/jacobian_bounds.hpp): if that bound is not positive, it is returned (over the largest det
+// J). <= 0: inverted somewhere (or, for a tet10 or hex20, not proven valid).
 inline constexpr double kLatticeCheckBelow = 0.2;
 double element_jacobian_ratio(const MixedMesh& mesh, std::size_t c);
 // The same over the production rule's points and the nodes only: a cheaper check for searches.

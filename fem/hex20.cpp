@@ -23,7 +23,7 @@ void hex20_shape(const Vec3& xi, ShapeValues& s) {
     const double prod = f[0] * f[1] * f[2];
     s.N[i] = prod * sum / 8;
     for (int d = 0; d < 3; ++d) {
-      const double others = prod / f[d];
+      const double others = f[(d + 1) % 3] * f[(d + 2) % 3];  // not prod / f[d]: 0/0 on a face
       s.dN[i][d] = (g[d] * others * sum + prod * g[d]) / 8;
     }
   }

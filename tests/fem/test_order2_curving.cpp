@@ -1,13 +1,19 @@
-// Curving the boundary of an order-2 mesh: a thin tet whose boundary face bulges into it is
-// inverted by the curving; bend_interior_nodes makes it valid again by moving its interior
+// Validity of curved order-2 cells, and curving the boundary of an order-2 mesh. The check:
+// shape derivatives are finite at every node (hex20's were 0/0 on its faces, so its corners
+// were silently skipped), and the Bernstein lower bound of det J (tet10, hex20) lies below det J
+// everywhere, exactly on an affine cell. The curving: a thin tet whose boundary face bulges into it
+// is inverted by the curving; bend_interior_nodes makes it valid again by moving its interior
 // mid-edge nodes (the boundary ones stay on the geometry), and a bulge deeper than the tet is
 // left to straighten_invalid_cells. Checked with the solver's own Jacobian test and a hand
 // computation of det J at the corner.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
 #include <vector>
 
 #include "fem/element.hpp"
+#include "fem/jacobian_bounds.hpp"
 #include "mesher/high_order_nodes.hpp"
 #include "mesher/mesh/element_topology.hpp"
 
@@ -85,6 +91,94 @@ TEST(Order2Curving, AValidCurvedCellIsLeftAlone) {
   straighten_invalid_cells(m, element_jacobian_ratio, kMin, &r);
   EXPECT_EQ(r.bent_cells + r.straightened_cells, 0);
   for (std::size_t n = 0; n < m.nodes.size(); ++n) EXPECT_EQ(m.nodes[n], curved.nodes[n]) << n;
+}
+
+// det J at reference point xi of the order-2 cell made of `nodes`.
+double det_at(CellKind kind, const std::vector<Vec3>& nodes, const Vec3& xi) {
+  ShapeValues s;
+  shape_functions(kind, 2, xi, s);
+  double J[3][3] = {};
+  for (int i = 0; i < s.n; ++i)
+    for (int a = 0; a < 3; ++a)
+      for (int d = 0; d < 3; ++d) J[a][d] += nodes[i][a] * s.dN[i][d];
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+
+MixedMesh one_cell(CellKind kind, const std::vector<Vec3>& nodes) {
+  MixedMesh m;
+  m.nodes = nodes;
+  std::vector<std::int32_t> corners;
+  for (int i = 0; i < num_nodes(kind); ++i) corners.push_back(i);
+  m.add_cell(kind, corners.data());
+  m.order = 2;
+  m.cell_edge_nodes.assign(kMaxCellEdges, -1);
+  for (int e = 0; e < num_edges(kind); ++e) m.cell_edge_nodes[e] = num_nodes(kind) + e;
+  return m;
+}
+
+TEST(Order2Curving, ShapeDerivativesAreFiniteAtEveryNode) {
+  for (const CellKind kind : {CellKind::Tet4, CellKind::Pyramid5, CellKind::Wedge6, CellKind::Hex8})
+    for (Vec3 p : reference_nodes(kind, 2)) {
+      if (kind == CellKind::Pyramid5 && p[2] == 1) p[2] = 0.99;  // 0/0 at the apex itself
+      ShapeValues s;
+      shape_functions(kind, 2, p, s);
+      for (int i = 0; i < s.n; ++i)
+        for (int d = 0; d < 3; ++d)
+          EXPECT_TRUE(std::isfinite(s.dN[i][d])) << kind_name(kind, 2) << " node " << i;
+    }
+}
+
+TEST(Order2Curving, BernsteinBoundIsBelowDetJEverywhereAndExactWhenAffine) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (const CellKind kind : {CellKind::Tet4, CellKind::Hex8}) {
+    const std::vector<Vec3> ref = reference_nodes(kind, 2);
+    std::vector<std::int32_t> ids(ref.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<std::int32_t>(i);
+    // An affine image (det J = 6 everywhere): the bound is that constant.
+    std::vector<Vec3> affine;
+    for (const Vec3& x : ref) affine.push_back({2 * x[0] + x[1], 3 * x[1], x[2] + 0.5 * x[0]});
+    const auto exact = order2_jacobian_bound(one_cell(kind, affine), kind, ids.data());
+    ASSERT_TRUE(exact.has_value());
+    EXPECT_NEAR(exact->lower, 6.0, 1e-10) << kind_name(kind, 2);
+    EXPECT_NEAR(exact->max_det, 6.0, 1e-10) << kind_name(kind, 2);
+    // Every node moved at random by up to 0.15: the bound never exceeds det J at 20,000 points.
+    for (int trial = 0; trial < 5; ++trial) {
+      std::vector<Vec3> nodes;
+      for (const Vec3& x : ref)
+        nodes.push_back({x[0] + 0.15 * u(rng), x[1] + 0.15 * u(rng), x[2] + 0.15 * u(rng)});
+      const auto bound = order2_jacobian_bound(one_cell(kind, nodes), kind, ids.data());
+      double lowest = 1e300;
+      for (int k = 0; k < 20000; ++k) {
+        Vec3 xi{u(rng), u(rng), u(rng)};
+        if (kind == CellKind::Tet4) {
+          for (double& c : xi) c = (c + 1) / 2;
+          if (xi[0] + xi[1] + xi[2] > 1) continue;
+        }
+        lowest = std::min(lowest, det_at(kind, nodes, xi));
+      }
+      EXPECT_LE(bound->lower, lowest + 1e-12) << kind_name(kind, 2) << " trial " << trial;
+      EXPECT_GT(bound->lower, lowest - 0.2) << kind_name(kind, 2) << " trial " << trial;
+    }
+  }
+}
+
+// A hex20 whose mid-edge node on edge 0-1 sits a fifth of the way from corner 0: the edge runs
+// backwards at that corner (tangent 4 m - 3 x0 - x1 = -0.2 (x1 - x0)), det J < 0 there and only
+// there. The corner itself is a node of the check; its derivatives used to be 0/0 (NaN), which
+// the min/max skipped, so the cell passed.
+TEST(Order2Curving, AHex20FoldedAtACornerIsInverted) {
+  std::vector<Vec3> nodes = reference_nodes(CellKind::Hex8, 2);
+  const Vec3 x0 = nodes[0], x1 = nodes[1];
+  const int m01 = 8 + 0;  // edges_of(Hex8)[0] is 0-1
+  ASSERT_EQ(edges_of(CellKind::Hex8)[0][0] + edges_of(CellKind::Hex8)[0][1], 1);
+  for (int d = 0; d < 3; ++d) nodes[m01][d] = x0[d] + 0.2 * (x1[d] - x0[d]);
+  const MixedMesh m = one_cell(CellKind::Hex8, nodes);
+  EXPECT_LT(det_at(CellKind::Hex8, nodes, {-1, -1, -1}), 0);
+  EXPECT_LT(element_jacobian_ratio_at_nodes_and_points(m, 0), 0);
+  EXPECT_LT(element_jacobian_ratio(m, 0), 0);
 }
 
 }  // namespace

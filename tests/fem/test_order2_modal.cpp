@@ -121,7 +121,7 @@ TEST(Order2Modal, CylinderIsAnUpperBoundOnceUntiedFacesAreConformal) {
 // The cylinder free-free at h = 4 (2,811 DOF, two cells across the radius), against the uniform
 // C3D20 O-grid reference (validation/reference/cylinder_free_c20.json). One cell comes out of
 // the curving valid but far from affine (min/max det J below 0.05); straightened, as it was
-// until the threshold became 1e-3, it left a flat spot on the round face and f7 0.23 % low. Kept
+// until the threshold became 1e-4, it left a flat spot on the round face and f7 0.23 % low. Kept
 // curved, each of f7-f10 is within 0.02 % (the tet10 chain: 0.08 % at 3,459 DOF).
 TEST(Order2Modal, CoarseFreeCylinderKeepsItsValidCurvedCells) {
   int code = 0;
