@@ -18,7 +18,7 @@ struct Order2Report {
   double max_offset = 0;        // largest |node - midpoint| / edge length
   long bent_cells = 0;          // cells made valid by moving interior mid-edge nodes instead
   long bent_nodes = 0;          // interior mid-edge nodes moved for them
-  long straightened_cells = 0;  // cells made valid by setting their curved nodes back straight
+  long straightened_cells = 0;  // cells made valid by setting their curved nodes back (partly)
   long straightened_nodes = 0;
   long hanging_placed = 0;     // NC faces' mid-diagonal nodes moved onto their quad's surface
   long hanging_kept = 0;       // left where they were: a cell around them would have degraded
@@ -49,9 +49,11 @@ void bend_interior_nodes(MixedMesh& mesh, const CellJacobianRatio& ratio,
                          const CellJacobianRatio& search_ratio, double min_ratio,
                          Order2Report* report = nullptr);
 
-// Every cell whose ratio is below `min_ratio` gets its curved nodes set back to their edges'
-// midpoints (so do its neighbours' shared edges), while that raises its ratio; repeated until
-// no cell changes. Throws hexfem::Error naming the first cell still inverted afterwards.
+// Every cell whose ratio is below `min_ratio` gets its curved nodes set back towards their
+// edges' midpoints, by the first of 10 %, 20 %, ... 100 % of their offset that brings it to
+// min_ratio (its neighbours' shared edges move with them), while that raises its ratio;
+// repeated until no cell changes. Throws hexfem::Error naming the first cell still inverted
+// afterwards.
 void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
                               Order2Report* report = nullptr);
 
