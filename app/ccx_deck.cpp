@@ -18,15 +18,7 @@ namespace {
 // The smallest det J of the 20-node hex x at the points of ref.
 double min_det(const ReferenceElement& ref, const Vec3* x) {
   double lo = std::numeric_limits<double>::infinity();
-  for (const ShapeValues& sv : ref.shape) {
-    double J[3][3] = {};
-    for (int i = 0; i < sv.n; ++i)
-      for (int a = 0; a < 3; ++a)
-        for (int d = 0; d < 3; ++d) J[a][d] += x[i][a] * sv.dN[i][d];
-    lo = std::min(lo, J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
-                          J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-                          J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]));
-  }
+  for (const ShapeValues& sv : ref.shape) lo = std::min(lo, jacobian_determinant(sv, x));
   return lo;
 }
 

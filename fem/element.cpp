@@ -250,16 +250,9 @@ const ReferenceElement& lattice_samples(CellKind kind) {
 }
 
 // min and max of det J over the samples of `ref`, folded into lo and hi.
-void jacobian_range(const ReferenceElement& ref, const MixedMesh& mesh, const std::int32_t* ids,
-                    double& lo, double& hi) {
+void jacobian_range(const ReferenceElement& ref, const Vec3* x, double& lo, double& hi) {
   for (const ShapeValues& s : ref.shape) {
-    double J[3][3] = {};
-    for (int i = 0; i < s.n; ++i)
-      for (int a = 0; a < 3; ++a)
-        for (int d = 0; d < 3; ++d) J[a][d] += mesh.nodes[ids[i]][a] * s.dN[i][d];
-    const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
-                       J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-                       J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+    const double det = jacobian_determinant(s, x);
     if (!std::isfinite(det)) {  // a basis undefined there: never read as valid
       lo = -std::numeric_limits<double>::infinity();
       continue;
@@ -269,31 +262,48 @@ void jacobian_range(const ReferenceElement& ref, const MixedMesh& mesh, const st
   }
 }
 
+// The cell's node coordinates, in the order of its shape functions.
+void cell_coordinates(const MixedMesh& mesh, std::size_t c, Vec3* x) {
+  std::int32_t ids[kMaxElementNodes];
+  const int n = mesh.element_nodes(c, ids);
+  for (int i = 0; i < n; ++i) x[i] = mesh.nodes[ids[i]];
+}
+
 }  // namespace
 
+double jacobian_determinant(const ShapeValues& s, const Vec3* x) {
+  double J[3][3] = {};
+  for (int i = 0; i < s.n; ++i)
+    for (int a = 0; a < 3; ++a)
+      for (int d = 0; d < 3; ++d) J[a][d] += x[i][a] * s.dN[i][d];
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
+         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+
 double element_jacobian_ratio(const MixedMesh& mesh, std::size_t c) {
-  std::int32_t ids[kMaxElementNodes];
-  mesh.element_nodes(c, ids);
+  Vec3 x[kMaxElementNodes];
+  cell_coordinates(mesh, c, x);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  jacobian_range(validity_samples(mesh.cell_kind[c], mesh.order), mesh, ids, lo, hi);
+  jacobian_range(validity_samples(mesh.cell_kind[c], mesh.order), x, lo, hi);
   // Only a cell that is already far from affine there can dip below 0 between those points.
   if (mesh.order == 2 && !(hi > 0 && lo >= kLatticeCheckBelow * hi)) {
-    const auto bound = order2_jacobian_bound(mesh, mesh.cell_kind[c], ids);
+    const auto bound = order2_jacobian_bound(mesh.cell_kind[c], x);
     if (bound && !(bound->lower > 0)) {  // not proven positive: read as inverted
       lo = std::min(lo, bound->lower);
       hi = std::max(hi, bound->max_det);
     } else {  // proven positive (tet10, hex20) or not provable (wedge15, pyramid13): samples
-      jacobian_range(lattice_samples(mesh.cell_kind[c]), mesh, ids, lo, hi);
+      jacobian_range(lattice_samples(mesh.cell_kind[c]), x, lo, hi);
     }
   }
   return hi > 0 ? lo / hi : -1.0;
 }
 
 double element_jacobian_ratio_at_nodes_and_points(const MixedMesh& mesh, std::size_t c) {
-  std::int32_t ids[kMaxElementNodes];
-  mesh.element_nodes(c, ids);
+  Vec3 x[kMaxElementNodes];
+  cell_coordinates(mesh, c, x);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  jacobian_range(validity_samples(mesh.cell_kind[c], mesh.order), mesh, ids, lo, hi);
+  jacobian_range(validity_samples(mesh.cell_kind[c], mesh.order), x, lo, hi);
   return hi > 0 ? lo / hi : -1.0;
 }
 

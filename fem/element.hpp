@@ -75,6 +75,9 @@ double element_matrices(const ReferenceElement& ref, const Vec3* x, const Materi
 // Reference coordinates of the element's nodes (corners, then mid-edge nodes at order 2).
 std::vector<Vec3> reference_nodes(CellKind kind, int order);
 
+// det J at one point of a cell whose nodes (in the order of the shape functions) are at x.
+double jacobian_determinant(const ShapeValues& s, const Vec3* x);
+
 // Validity of cell c of the mesh at its order: min det J / max det J over the production rule's
 // points and the nodes (the pyramid apex, where the rational basis is 0/0, replaced by the point
 // at 0.99 of the axis). An order-2 cell whose ratio there is below kLatticeCheckBelow is also

@@ -13,16 +13,6 @@ namespace hexfem {
 
 namespace {
 
-double det_at(const ShapeValues& s, const MixedMesh& mesh, const std::int32_t* ids) {
-  double J[3][3] = {};
-  for (int i = 0; i < s.n; ++i)
-    for (int a = 0; a < 3; ++a)
-      for (int d = 0; d < 3; ++d) J[a][d] += mesh.nodes[ids[i]][a] * s.dN[i][d];
-  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
-         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
-}
-
 double binomial(int n, int k) {
   double b = 1;
   for (int i = 1; i <= k; ++i) b = b * (n - k + i) / i;
@@ -70,8 +60,7 @@ const HexTable& hex_table() {
 
 // Bernstein coefficients of det J over the box lo..hi (reference coordinates) from its values at
 // the box's 6 x 6 x 6 points; returns their minimum and the largest value (the box's samples).
-std::pair<double, double> hex20_box(const MixedMesh& mesh, const std::int32_t* ids, const Vec3& lo,
-                                    const Vec3& hi) {
+std::pair<double, double> hex20_box(const Vec3* x, const Vec3& lo, const Vec3& hi) {
   const HexTable& t = hex_table();
   constexpr int n = kHexPoints;
   std::array<double, n * n * n> v, w;
@@ -87,7 +76,7 @@ std::pair<double, double> hex20_box(const MixedMesh& mesh, const std::int32_t* i
       s = t.shape[p];
     else
       hex20_shape(xi, s);
-    top = std::max(top, v[p] = det_at(s, mesh, ids));
+    top = std::max(top, v[p] = jacobian_determinant(s, x));
   }
   // Along i, then j, then l: c = A⁻¹ v on each line.
   for (int axis = 0; axis < 3; ++axis) {
@@ -107,9 +96,7 @@ std::pair<double, double> hex20_box(const MixedMesh& mesh, const std::int32_t* i
 // to kMax*Depth levels (the coefficients converge to the values as the parts shrink).
 constexpr int kMaxHexDepth = 2, kMaxTetDepth = 3;
 
-double hex20_refined(const MixedMesh& mesh, const std::int32_t* ids, const Vec3& lo, const Vec3& hi,
-                     double lower, double top, int depth) {
-  (void)top;
+double hex20_refined(const Vec3* x, const Vec3& lo, const Vec3& hi, double lower, int depth) {
   if (lower > 0 || depth >= kMaxHexDepth) return lower;
   double out = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 8; ++k) {
@@ -119,17 +106,15 @@ double hex20_refined(const MixedMesh& mesh, const std::int32_t* ids, const Vec3&
       a[d] = (k >> d) & 1 ? mid : lo[d];
       b[d] = (k >> d) & 1 ? hi[d] : mid;
     }
-    const auto [sub, sub_top] = hex20_box(mesh, ids, a, b);
-    (void)sub_top;
-    out = std::min(out, hex20_refined(mesh, ids, a, b, sub, top, depth + 1));
+    out = std::min(out, hex20_refined(x, a, b, hex20_box(x, a, b).first, depth + 1));
   }
   return std::max(out, lower);  // each sub-box's bound is at least its parent's
 }
 
-JacobianBound hex20_bound(const MixedMesh& mesh, const std::int32_t* ids) {
+JacobianBound hex20_bound(const Vec3* x) {
   const Vec3 lo{-1, -1, -1}, hi{1, 1, 1};
-  const auto [lower, top] = hex20_box(mesh, ids, lo, hi);
-  return {hex20_refined(mesh, ids, lo, hi, lower, top, 0), top};
+  const auto [lower, top] = hex20_box(x, lo, hi);
+  return {hex20_refined(x, lo, hi, lower, 0), top};
 }
 
 // tet10: det J is a cubic in the barycentric coordinates; its 20 Bernstein coefficients from
@@ -174,8 +159,7 @@ const TetTable& tet_table() {
 
 // The same for a tet10 over the sub-tetrahedron with reference vertices P[0..3]: its 20
 // coefficients from det J at the points sum(α_i P_i) / 3.
-std::pair<double, double> tet10_part(const MixedMesh& mesh, const std::int32_t* ids,
-                                     const std::array<Vec3, 4>& P, bool whole) {
+std::pair<double, double> tet10_part(const Vec3* x, const std::array<Vec3, 4>& P, bool whole) {
   const TetTable& t = tet_table();
   Eigen::Matrix<double, kTetCoefficients, 1> v;
   double top = -std::numeric_limits<double>::infinity();
@@ -189,7 +173,7 @@ std::pair<double, double> tet10_part(const MixedMesh& mesh, const std::int32_t* 
         for (int d = 0; d < 3; ++d) xi[d] += t.alpha[p][i] * P[i][d] / kTetDegree;
       tet10_shape(xi, s);
     }
-    top = std::max(top, v(p) = det_at(s, mesh, ids));
+    top = std::max(top, v(p) = jacobian_determinant(s, x));
   }
   return {(t.inverse * v).minCoeff(), top};
 }
@@ -198,9 +182,7 @@ Vec3 half(const Vec3& a, const Vec3& b) {
   return {(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2};
 }
 
-double tet10_refined(const MixedMesh& mesh, const std::int32_t* ids, const std::array<Vec3, 4>& P,
-                     double lower, double top, int depth) {
-  (void)top;
+double tet10_refined(const Vec3* x, const std::array<Vec3, 4>& P, double lower, int depth) {
   if (lower > 0 || depth >= kMaxTetDepth) return lower;
   // Red refinement: four corner tets and the octahedron cut along m02-m13 into four.
   const Vec3 m01 = half(P[0], P[1]), m02 = half(P[0], P[2]), m03 = half(P[0], P[3]),
@@ -215,24 +197,22 @@ double tet10_refined(const MixedMesh& mesh, const std::int32_t* ids, const std::
                                                      {m02, m13, m03, m01}}};
   double out = std::numeric_limits<double>::infinity();
   for (const auto& Q : parts) {
-    const double sub = tet10_part(mesh, ids, Q, false).first;
-    out = std::min(out, tet10_refined(mesh, ids, Q, sub, top, depth + 1));
+    out = std::min(out, tet10_refined(x, Q, tet10_part(x, Q, false).first, depth + 1));
   }
   return std::max(out, lower);
 }
 
-JacobianBound tet10_bound(const MixedMesh& mesh, const std::int32_t* ids) {
+JacobianBound tet10_bound(const Vec3* x) {
   const std::array<Vec3, 4> P = {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
-  const auto [lower, top] = tet10_part(mesh, ids, P, true);
-  return {tet10_refined(mesh, ids, P, lower, top, 0), top};
+  const auto [lower, top] = tet10_part(x, P, true);
+  return {tet10_refined(x, P, lower, 0), top};
 }
 
 }  // namespace
 
-std::optional<JacobianBound> order2_jacobian_bound(const MixedMesh& mesh, CellKind kind,
-                                                   const std::int32_t* ids) {
-  if (kind == CellKind::Hex8) return hex20_bound(mesh, ids);
-  if (kind == CellKind::Tet4) return tet10_bound(mesh, ids);
+std::optional<JacobianBound> order2_jacobian_bound(CellKind kind, const Vec3* x) {
+  if (kind == CellKind::Hex8) return hex20_bound(x);
+  if (kind == CellKind::Tet4) return tet10_bound(x);
   return std::nullopt;
 }
 

@@ -6,7 +6,6 @@
 // The coefficients come from det J at as many points (Bernstein interpolation).
 #pragma once
 
-#include <cstdint>
 #include <optional>
 
 #include "mesher/mesh/mixed_mesh.hpp"
@@ -18,9 +17,8 @@ struct JacobianBound {
   double max_det;  // largest det J at the interpolation points
 };
 
-// The bound for an order-2 tet or hex cell whose node ids (corners, then mid-edge nodes) are
-// `ids`; nullopt for the other kinds (wedge15: not done; pyramid13: rational, no polynomial).
-std::optional<JacobianBound> order2_jacobian_bound(const MixedMesh& mesh, CellKind kind,
-                                                   const std::int32_t* ids);
+// The bound for an order-2 tet or hex cell whose nodes (corners, then mid-edge nodes) are at
+// x; nullopt for the other kinds (wedge15: not done; pyramid13: rational, no polynomial).
+std::optional<JacobianBound> order2_jacobian_bound(CellKind kind, const Vec3* x);
 
 }  // namespace hexfem

@@ -278,13 +278,14 @@ void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, d
       // As little of the curve taken back as makes the cell valid, in tenths: on the coarse
       // torus a hex with two boundary faces at a flat angle folds at their shared edge, and
       // a tenth less bulge mends it where the straight cell left a flat spot (order2.md).
+      double after = before;
       for (const double keep : {0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1, 0.0}) {
         for (const auto& [m, x] : moved)
           for (int k = 0; k < 3; ++k)
             mesh.nodes[m][k] = straight[m][k] + keep * (x[k] - straight[m][k]);
-        if (ratio(mesh, c) >= min_ratio) break;
+        if ((after = ratio(mesh, c)) >= min_ratio) break;
       }
-      if (ratio(mesh, c) <= before) {  // straight is no better: keep the geometry
+      if (after <= before) {  // straight is no better: keep the geometry
         for (const auto& [m, x] : moved) mesh.nodes[m] = x;
         continue;
       }
