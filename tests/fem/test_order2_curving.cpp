@@ -103,13 +103,7 @@ TEST(Order2Curving, AValidCurvedCellIsLeftAlone) {
 double det_at(CellKind kind, const std::vector<Vec3>& nodes, const Vec3& xi) {
   ShapeValues s;
   shape_functions(kind, 2, xi, s);
-  double J[3][3] = {};
-  for (int i = 0; i < s.n; ++i)
-    for (int a = 0; a < 3; ++a)
-      for (int d = 0; d < 3; ++d) J[a][d] += nodes[i][a] * s.dN[i][d];
-  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
-         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+  return jacobian_determinant(s, nodes.data());
 }
 
 MixedMesh one_cell(CellKind kind, const std::vector<Vec3>& nodes) {
