@@ -83,6 +83,8 @@ class ShiftInvertOp {
   // sigma is the shift of the scaled pencil: K - sigma*s*M is factorized.
   void set_shift(double scaled_sigma) {
     const double sigma = scaled_sigma * scale_;
+    // A second Lanczos run at the same shift (the search for missed copies) reuses the factor.
+    if (factored_ && sigma == factored_sigma_) return;
     const auto t0 = std::chrono::steady_clock::now();
     A_ = K_;
     Eigen::Map<Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros()) -=
@@ -104,6 +106,8 @@ class ShiftInvertOp {
 #endif
     A_ = SparseMatrix();  // the factor holds what is needed
     factor_seconds_ = seconds_since(t0);
+    factored_ = true;
+    factored_sigma_ = sigma;
   }
 
   void perform_op(const double* x_in, double* y_out) const {
@@ -173,6 +177,8 @@ class ShiftInvertOp {
   const SparseMatrix& M_;
   double max_factor_bytes_ = 0;
   bool analyzed_ = false;
+  bool factored_ = false;
+  double factored_sigma_ = 0;
   double factor_bytes_ = 0;
   SparseMatrix A_;
   const Eigen::MatrixXd* Z_ = nullptr;
@@ -186,6 +192,87 @@ class ShiftInvertOp {
   double factor_flops_ = 0;
   double factor_seconds_ = 0;
 };
+
+using MassOp = Spectra::SparseSymMatProd<double, Eigen::Lower, Eigen::ColMajor, long>;
+
+struct LanczosPairs {
+  Eigen::VectorXd values;   // of the scaled pencil (K/s, M), ascending
+  Eigen::MatrixXd vectors;  // M-orthonormal, and M-orthogonal to the operator's deflation
+  long iterations = 0, operations = 0;
+};
+
+// The nev eigenpairs of the scaled pencil nearest its shift, by Spectra's shift-invert Lanczos
+// from a fixed pseudo-random start vector (`seed` picks it) with the deflated part removed.
+LanczosPairs lanczos_nearest_shift(ShiftInvertOp& op, MassOp& bop, long nev, long ncv,
+                                   double scaled_sigma, double seed, double tolerance) {
+  Spectra::SymGEigsShiftSolver<ShiftInvertOp, MassOp, Spectra::GEigsMode::ShiftInvert> eigs(
+      op, bop, nev, ncv, scaled_sigma);
+  const long n = op.rows();
+  Eigen::VectorXd v0(n);
+  for (long i = 0; i < n; ++i) v0[i] = std::sin(seed * static_cast<double>(i + 1)) + 0.5;
+  op.project(v0.data());
+  eigs.init(v0.data());
+  eigs.compute(Spectra::SortRule::LargestMagn, 1000, tolerance, Spectra::SortRule::SmallestAlge);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    throw Error("the eigenvalue iteration did not converge (" + std::to_string(nev) + " modes, " +
+                std::to_string(n) + " DOFs)");
+  return {eigs.eigenvalues(), eigs.eigenvectors(), eigs.num_iterations(), eigs.num_operations()};
+}
+
+// Lanczos from one start vector sees one copy of each eigenvalue in exact arithmetic; round-off
+// brings the other copies in late or never. On a cube's structured mesh (a triple eigenvalue)
+// `--modes 10` gave the triple once and the next frequency in place of its other two copies. So
+// the complement of the pairs found (and of Z) is searched once more from another start vector,
+// to a loose tolerance (a Ritz value's error is about the square of its residual): if it holds
+// an eigenvalue below the highest kept, a full-tolerance run there brings the missed pairs in,
+// they replace the highest, and the complement is searched again. `pairs` keeps its size.
+void add_missed_copies(ShiftInvertOp& op, MassOp& bop, const Eigen::MatrixXd& Z,
+                       double scaled_sigma, double tolerance, LanczosPairs& pairs) {
+  const long n = op.rows(), nl = pairs.values.size();
+  // A value this far below the highest kept is a different eigenvalue; closer, a copy of it,
+  // and which copy is kept does not change the list.
+  constexpr double kDistinct = 1e-8;
+  constexpr long kSearchNcv = 10;
+  constexpr double kSearchTolerance = 1e-4;
+  for (int round = 0; round < nl; ++round) {
+    Eigen::MatrixXd D(n, Z.cols() + nl);
+    D << Z, pairs.vectors;
+    op.set_deflation(&D);
+    const long left = n - D.cols();
+    if (left < 2) break;
+    const double top = pairs.values[nl - 1], below_top = top - kDistinct * std::abs(top);
+    const LanczosPairs probe =
+        lanczos_nearest_shift(op, bop, 1, std::min(left, kSearchNcv), scaled_sigma, 78.233 + round,
+                              std::max(tolerance, kSearchTolerance));
+    pairs.iterations += probe.iterations;
+    pairs.operations += probe.operations;
+    if (!(probe.values[0] < below_top)) break;
+    const long k = std::min<long>({nl, 3, left - 1});
+    const LanczosPairs more = lanczos_nearest_shift(op, bop, k, std::min<long>(left, 20),
+                                                    scaled_sigma, 4.1414 + round, tolerance);
+    pairs.iterations += more.iterations;
+    pairs.operations += more.operations;
+    // Merge, ascending, and keep the nl lowest.
+    std::vector<std::pair<double, long>> all;  // value, column (>= nl: from `more`)
+    for (long j = 0; j < nl; ++j) all.emplace_back(pairs.values[j], j);
+    for (long j = 0; j < k; ++j)
+      if (more.values[j] < below_top) all.emplace_back(more.values[j], nl + j);
+    if (static_cast<long>(all.size()) == nl) break;  // the probe's value not confirmed
+    std::stable_sort(all.begin(), all.end(),
+                     [](const auto& x, const auto& y) { return x.first < y.first; });
+    LanczosPairs merged = pairs;
+    for (long j = 0; j < nl; ++j) {
+      merged.values[j] = all[j].first;
+      const long c = all[j].second;
+      if (c < nl)
+        merged.vectors.col(j) = pairs.vectors.col(c);
+      else
+        merged.vectors.col(j) = more.vectors.col(c - nl);
+    }
+    pairs = std::move(merged);
+  }
+  op.set_deflation(&Z);
+}
 
 #ifdef HEXFEM_HAVE_CHOLMOD
 // METIS nested dissection of the node graph: 3x fewer vertices and 9x fewer edges than the DOF
@@ -333,8 +420,7 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
   ShiftInvertOp op(K, M, options.preordered, options.max_factor_bytes);
   op.set_deflation(&Z);
   op.set_scale(lambda_scale);
-  using BOp = Spectra::SparseSymMatProd<double, Eigen::Lower, Eigen::ColMajor, long>;
-  BOp bop(M);
+  MassOp bop(M);
   const long nfree = n - Z.cols();  // the dimension left after the deflation
   const long ncv = options.ncv > nl ? std::min<long>(nfree, options.ncv)
                                     : std::min(nfree, std::max(2 * nl + 1, 20L));
@@ -346,24 +432,17 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
       throw Error("requested " + std::to_string(nev) + " modes but the model has only " +
                   std::to_string(n) + " free DOFs and " + std::to_string(Z.cols()) +
                   " rigid-body modes");
-    Spectra::SymGEigsShiftSolver<ShiftInvertOp, BOp, Spectra::GEigsMode::ShiftInvert> eigs(
-        op, bop, nl, ncv, res.sigma / lambda_scale);
     // The same start as Spectra's default (a fixed pseudo-random vector), without its rigid part.
-    Eigen::VectorXd v0(n);
-    for (long i = 0; i < n; ++i) v0[i] = std::sin(12.9898 * static_cast<double>(i + 1)) + 0.5;
-    op.project(v0.data());
-    eigs.init(v0.data());
-    eigs.compute(Spectra::SortRule::LargestMagn, 1000, options.tolerance,
-                 Spectra::SortRule::SmallestAlge);
-    if (eigs.info() != Spectra::CompInfo::Successful)
-      throw Error("the eigenvalue iteration did not converge (" + std::to_string(nev) + " modes, " +
-                  std::to_string(n) + " DOFs)");
-    res.iterations = eigs.num_iterations();
-    res.operations = eigs.num_operations();
+    const double scaled_sigma = res.sigma / lambda_scale;
+    LanczosPairs pairs =
+        lanczos_nearest_shift(op, bop, nl, ncv, scaled_sigma, 12.9898, options.tolerance);
+    add_missed_copies(op, bop, Z, scaled_sigma, options.tolerance, pairs);
+    res.iterations = pairs.iterations;
+    res.operations = pairs.operations;
     lambda.conservativeResize(nev);
-    lambda.tail(nl) = lambda_scale * eigs.eigenvalues();
+    lambda.tail(nl) = lambda_scale * pairs.values;
     phi.conservativeResize(n, nev);
-    phi.rightCols(nl) = eigs.eigenvectors();
+    phi.rightCols(nl) = pairs.vectors;
   }
   res.factor_seconds = op.factor_seconds();
   res.solve_seconds = seconds_since(t0) - res.factor_seconds;
