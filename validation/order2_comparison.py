@@ -67,6 +67,13 @@ MODELS = {
     "cylinder_free": {"step": os.path.join(SHARED, "cylinder.stp"), "free": True,
                       "reference": "cylinder_free_c20.json", "order1": [2, 1.4142136, 1, 0.7071068],
                       "order2": [4, 2.8284271, 2, 1.4142136], "tet10": [4, 3.2, 2.5, 2, 1.6]},
+    # the unit cube (box.stp, 1 mm), free-free: flat faces, convex edges only, no singularity;
+    # the chain's own extrapolation from h = 0.1, 0.07, 0.05 (reference/box_free.json). hexfem
+    # meshes it with hexes alone at h = 1/n, so this is the best case of a hex-dominant mesh
+    "box_free": {"step": os.path.join(SHARED, "box.stp"), "free": True,
+                 "reference": "box_free.json", "order1": [0.25, 0.1666667, 0.125, 0.1],
+                 "order2": [0.5, 0.3333333, 0.25, 0.2, 0.1666667, 0.125, 0.1],
+                 "tet10": [0.4, 0.3, 0.2, 0.15, 0.125, 0.1]},
     # the cylinder with the clamp face (CAD face 3, y = 177.5) graded in both chains
     "cylinder_graded": {"step": os.path.join(SHARED, "cylinder.stp"), "fix": "y<177.501",
                         "axis": "y", "clamp_face": 3, "clamp_fraction": 0.5,
