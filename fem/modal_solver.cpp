@@ -199,10 +199,12 @@ struct LanczosPairs {
   Eigen::VectorXd values;   // of the scaled pencil (K/s, M), ascending
   Eigen::MatrixXd vectors;  // M-orthonormal, and M-orthogonal to the operator's deflation
   long iterations = 0, operations = 0;
+  bool converged = false;  // else values/vectors hold only the pairs that did
 };
 
 // The nev eigenpairs of the scaled pencil nearest its shift, by Spectra's shift-invert Lanczos
 // from a fixed pseudo-random start vector (`seed` picks it) with the deflated part removed.
+// Does not throw when the iteration stops unconverged: `converged` says so.
 LanczosPairs lanczos_nearest_shift(ShiftInvertOp& op, MassOp& bop, long nev, long ncv,
                                    double scaled_sigma, double seed, double tolerance) {
   Spectra::SymGEigsShiftSolver<ShiftInvertOp, MassOp, Spectra::GEigsMode::ShiftInvert> eigs(
@@ -213,10 +215,8 @@ LanczosPairs lanczos_nearest_shift(ShiftInvertOp& op, MassOp& bop, long nev, lon
   op.project(v0.data());
   eigs.init(v0.data());
   eigs.compute(Spectra::SortRule::LargestMagn, 1000, tolerance, Spectra::SortRule::SmallestAlge);
-  if (eigs.info() != Spectra::CompInfo::Successful)
-    throw Error("the eigenvalue iteration did not converge (" + std::to_string(nev) + " modes, " +
-                std::to_string(n) + " DOFs)");
-  return {eigs.eigenvalues(), eigs.eigenvectors(), eigs.num_iterations(), eigs.num_operations()};
+  return {eigs.eigenvalues(), eigs.eigenvectors(), eigs.num_iterations(), eigs.num_operations(),
+          eigs.info() == Spectra::CompInfo::Successful};
 }
 
 // Lanczos from one start vector sees one copy of each eigenvalue in exact arithmetic; round-off
@@ -246,7 +246,8 @@ void add_missed_copies(ShiftInvertOp& op, MassOp& bop, const Eigen::MatrixXd& Z,
                               std::max(tolerance, kSearchTolerance));
     pairs.iterations += probe.iterations;
     pairs.operations += probe.operations;
-    if (!(probe.values[0] < below_top)) break;
+    // A search that does not converge leaves the list as the first run found it.
+    if (!probe.converged || probe.values.size() == 0 || !(probe.values[0] < below_top)) break;
     const long k = std::min<long>({nl, 3, left - 1});
     const LanczosPairs more = lanczos_nearest_shift(op, bop, k, std::min<long>(left, 20),
                                                     scaled_sigma, 4.1414 + round, tolerance);
@@ -255,7 +256,7 @@ void add_missed_copies(ShiftInvertOp& op, MassOp& bop, const Eigen::MatrixXd& Z,
     // Merge, ascending, and keep the nl lowest.
     std::vector<std::pair<double, long>> all;  // value, column (>= nl: from `more`)
     for (long j = 0; j < nl; ++j) all.emplace_back(pairs.values[j], j);
-    for (long j = 0; j < k; ++j)
+    for (long j = 0; j < more.values.size(); ++j)
       if (more.values[j] < below_top) all.emplace_back(more.values[j], nl + j);
     if (static_cast<long>(all.size()) == nl) break;  // the probe's value not confirmed
     std::stable_sort(all.begin(), all.end(),
@@ -436,6 +437,9 @@ EigenResult solve_eigen(const SparseMatrix& K, const SparseMatrix& M, const Eige
     const double scaled_sigma = res.sigma / lambda_scale;
     LanczosPairs pairs =
         lanczos_nearest_shift(op, bop, nl, ncv, scaled_sigma, 12.9898, options.tolerance);
+    if (!pairs.converged)
+      throw Error("the eigenvalue iteration did not converge (" + std::to_string(nev) + " modes, " +
+                  std::to_string(n) + " DOFs)");
     add_missed_copies(op, bop, Z, scaled_sigma, options.tolerance, pairs);
     res.iterations = pairs.iterations;
     res.operations = pairs.operations;
