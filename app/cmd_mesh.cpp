@@ -193,6 +193,12 @@ RegisterCommand reg{
                       "Jacobi sweeps moving each interior point towards its lattice neighbours "
                       "after the frontal insertion (study)")
            ->check(CLI::Range(0, 1000));
+       sub.add_option("--lp-cvt", a->volume.lp_cvt,
+                      "L-BFGS iterations of an Lp-CVT optimisation of the interior points "
+                      "after the frontal insertion (Levy and Liu 2010; study)")
+           ->check(CLI::Range(0, 10000));
+       sub.add_option("--lp-cvt-p", a->volume.lp_cvt_p, "the Lp-CVT exponent (even; study)")
+           ->check(CLI::IsMember({2, 4, 6, 8, 10, 12, 14}));
        sub.add_option("--align-opposite", a->align_opposite,
                       "pack the two faces of a wall up to T sizes thick from the same points, "
                       "the smaller face seeded from the larger (study; 0 = off)")

@@ -29,6 +29,12 @@ void to_json(nlohmann::json& j, const VolumeReport& r) {
   j["vertices"] = r.stats.num_nodes;
   j["surface_vertices"] = r.surface_vertices;
   j["interior_points"] = r.interior_points;
+  if (r.lp_cvt.evaluations > 0)
+    j["lp_cvt"] = {{"energy_before", r.lp_cvt.energy_before},
+                   {"energy_after", r.lp_cvt.energy_after},
+                   {"iterations", r.lp_cvt.iterations},
+                   {"evaluations", r.lp_cvt.evaluations},
+                   {"moves_kept", r.lp_cvt.moves_kept}};
   j["steiner_points"] = r.steiner_points;
   if (r.frontal_points) j["frontal_points"] = r.frontal_points;
   j["tets_from_tetgen"] = r.tets;

@@ -63,6 +63,8 @@ VolumePoints insert_points(const SurfaceMesh& surface, const FrameField3D& field
   po.inherit_frame = o.inherit_frame;
   po.smooth_frame = o.smooth_frame;
   po.relax_iterations = o.relax_points;
+  po.lpcvt.iterations = o.lp_cvt;
+  po.lpcvt.p = o.lp_cvt_p;
   return insert_volume_points(surface, field, locator, po);
 }
 
@@ -272,6 +274,7 @@ MixedMesh mesh_volume_once(const SurfaceMesh& surface_in, const VolumeOptions& o
   r.surface_vertices = surface_in.mesh.nodes.size();
   r.interior_points = points.points.size();
   r.frontal_points = points.frontal_count;
+  r.lp_cvt = points.lpcvt;
   r.stages.push_back(timer.lap("volume points"));
 
   TetMesh tets =

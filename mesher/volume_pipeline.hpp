@@ -18,6 +18,7 @@
 #include "mesher/recombine_select.hpp"
 #include "mesher/stage_timer.hpp"
 #include "mesher/surface_mesh.hpp"
+#include "mesher/volume_points_lpcvt.hpp"
 
 namespace hexfem {
 
@@ -38,6 +39,8 @@ struct VolumeOptions {
   bool inherit_frame = true;    // points take their front's frame (volume_points.hpp)
   bool smooth_frame = false;    // --smooth-frame: the smooth field's frame (frame_field_smooth.hpp)
   int relax_points = 0;         // --relax-points N: lattice relaxation sweeps (volume_points.hpp)
+  int lp_cvt = 0;               // --lp-cvt N: Lp-CVT iterations (volume_points_lpcvt.hpp)
+  int lp_cvt_p = 8;             // --lp-cvt-p P: its exponent
   // --tetgen-delaunay-recovery: TetGen's Delaunay recovery after the boundary recovery
   // (tetrahedralize.hpp). Off: ANC101 at 1M vertices TetGen 38 -> 15 s, H_nbr 80.78 -> 80.77 %.
   bool tetgen_delaunay_recovery = false;
@@ -68,6 +71,7 @@ struct VolumeOptions {
 
 struct VolumeReport {
   std::size_t surface_vertices = 0, interior_points = 0, steiner_points = 0;
+  LpCvtReport lp_cvt;                // --lp-cvt: the optimisation's energies and iterations
   double tetgen_seconds = 0;         // TetGen's own run, inside the "tetgen" stage (TetMesh)
   std::size_t frontal_points = 0;    // random mode: the frontal count it aimed at
   std::size_t tets = 0;              // TetGen's tets (inside the solids)

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "mesher/mesh/error.hpp"
+#include "mesher/vec3.hpp"
 
 namespace hexfem {
 
@@ -139,6 +140,11 @@ std::vector<std::array<std::int32_t, 6>> lattice_neighbours(const std::vector<Ve
   return nb;
 }
 
+std::size_t keep_valid_moves(std::vector<Vec3>& cur, std::size_t ns,
+                             const std::vector<Frame>& frame, const std::vector<double>& size,
+                             const std::vector<std::int32_t>& solid, const SolidLocator& locator,
+                             double k, VolumePoints& out);
+
 // all: the surface points, then out.points (the frontal order).
 void relax_lattice(const std::vector<Vec3>& all, std::size_t ns, const std::vector<Frame>& frame,
                    const std::vector<double>& size, const std::vector<std::int32_t>& solid,
@@ -181,6 +187,17 @@ void relax_lattice(const std::vector<Vec3>& all, std::size_t ns, const std::vect
     }
     std::swap(cur, next);
   }
+  keep_valid_moves(cur, ns, frame, size, solid, locator, k, out);
+}
+
+// cur: the surface points, then the interior points' new places (out.points: their old ones).
+// Each interior point takes its new place when that is valid; else it keeps its old one.
+std::size_t keep_valid_moves(std::vector<Vec3>& cur, std::size_t ns,
+                             const std::vector<Frame>& frame, const std::vector<double>& size,
+                             const std::vector<std::int32_t>& solid, const SolidLocator& locator,
+                             double k, VolumePoints& out) {
+  const std::size_t ni = out.points.size();
+  const auto nni = static_cast<std::ptrdiff_t>(ni);
   // Each point's move is kept when it stays inside and at least k h from the boundary. (Moves
   // capped at h/2 or h kept fewer hexes: the gains come from points that travel further.)
   std::vector<char> moved(ni, 0);
@@ -217,8 +234,34 @@ void relax_lattice(const std::vector<Vec3>& all, std::size_t ns, const std::vect
       }
     if (!any) break;
   }
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < ni; ++i)
-    if (moved[i]) out.points[i] = cur[ns + i];
+    if (moved[i]) {
+      out.points[i] = cur[ns + i];
+      ++kept;
+    }
+  return kept;
+}
+
+// Points that close the surface points' Voronoi cells for the Lp-CVT: each surface vertex of
+// one solid, moved out by its size along its outward normal (the area-weighted mean of its
+// triangles'). A vertex between two solids gets none: the other solid's points close its cell.
+std::vector<Vec3> ghost_points(const SurfaceMesh& surface, const SolidLocator& locator,
+                               const std::vector<double>& size) {
+  const auto& X = surface.mesh.nodes;
+  std::vector<Vec3> normal(X.size(), {0, 0, 0});
+  const auto& T = surface.mesh.bface_nodes;
+  for (std::size_t t = 0; t + 3 < T.size(); t += 4) {
+    const Vec3 n = v3::cross(v3::sub(X[T[t + 1]], X[T[t]]), v3::sub(X[T[t + 2]], X[T[t]]));
+    for (int a = 0; a < 3; ++a) normal[T[t + a]] = v3::add(normal[T[t + a]], n);
+  }
+  std::vector<Vec3> ghosts;
+  for (std::size_t v = 0; v < X.size(); ++v) {
+    const double len = v3::norm(normal[v]);
+    if (len == 0 || locator.solids_of_node(v).size() != 1) continue;
+    ghosts.push_back(v3::add(X[v], v3::scaled(normal[v], size[v] / len)));
+  }
+  return ghosts;
 }
 
 struct Candidate {
@@ -232,7 +275,8 @@ struct Candidate {
 // smooth: when given, every point's frame is the smooth field's at its position.
 VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
                      const SolidLocator& locator, double k, bool inherit_frame,
-                     const SmoothFrameField* smooth, int relax_iterations) {
+                     const SmoothFrameField* smooth, int relax_iterations,
+                     const LpCvtOptions& lpcvt) {
   const std::size_t ns = surface.mesh.nodes.size();
   Cloud cloud(surface.mesh.nodes);
   // Per cloud point: its size, its frame, and its solid (0 = surface).
@@ -341,6 +385,17 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
     head = end;
   }
   relax_lattice(cloud.points(), ns, frame, size, solid, locator, k, relax_iterations, out);
+  if (lpcvt.iterations > 0 && !out.points.empty()) {
+    std::vector<Vec3> all = cloud.points();
+    for (std::size_t i = 0; i < out.points.size(); ++i) all[ns + i] = out.points[i];
+    const std::vector<Vec3> ghosts = ghost_points(surface, locator, size);
+    all.insert(all.end(), ghosts.begin(), ghosts.end());
+    const std::vector<Vec3> moved =
+        optimize_lp_cvt(all, ns, out.points.size(), frame, size, lpcvt, &out.lpcvt);
+    all.resize(ns + out.points.size());
+    for (std::size_t i = 0; i < moved.size(); ++i) all[ns + i] = moved[i];
+    out.lpcvt.moves_kept = keep_valid_moves(all, ns, frame, size, solid, locator, k, out);
+  }
   return out;
 }
 
@@ -417,7 +472,7 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
     smooth = std::make_unique<SmoothFrameField>(surface, field, locator, options.smooth);
   if (!options.random) {
     VolumePoints out = frontal(surface, field, locator, options.k, options.inherit_frame,
-                               smooth.get(), options.relax_iterations);
+                               smooth.get(), options.relax_iterations, options.lpcvt);
     jitter_points(out, field, options.jitter);
     return out;
   }
@@ -426,7 +481,7 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   if (target == 0) {
     // Only the count is used: no relaxation.
     frontal_count =
-        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(), 0)
+        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(), 0, {})
             .points.size();
     target = frontal_count;
   }

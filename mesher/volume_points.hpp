@@ -25,6 +25,7 @@
 #include "mesher/frame_field_smooth.hpp"
 #include "mesher/solid_locator.hpp"
 #include "mesher/surface_mesh.hpp"
+#include "mesher/volume_points_lpcvt.hpp"
 
 namespace hexfem {
 
@@ -46,6 +47,9 @@ struct VolumePointsOptions {
   SmoothFrameOptions smooth;
   // Jacobi sweeps of the lattice relaxation after the frontal insertion (0: none; study).
   int relax_iterations = 0;
+  // Lp-CVT optimisation of the interior points after the insertion (volume_points_lpcvt.hpp;
+  // iterations 0: none; study).
+  LpCvtOptions lpcvt;
 };
 
 struct VolumePoints {
@@ -53,6 +57,7 @@ struct VolumePoints {
   std::vector<std::int32_t> solid;  // solid id of each point
   std::size_t candidates = 0;       // candidates examined
   std::size_t frontal_count = 0;    // random mode: the frontal run's count it aimed at
+  LpCvtReport lpcvt;                // the Lp-CVT optimisation's energies, when it ran
 };
 
 VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D& field,
