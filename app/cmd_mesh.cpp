@@ -32,7 +32,7 @@ struct MeshArgs {
   VolumeOptions volume;  // --dim 3 only
   std::string hex_selection = "greedy";
   bool binary = false;
-  double align_opposite = 0;
+  double align_opposite = SurfaceOptions{}.align_opposite;
   bool glue = false;
 };
 
@@ -201,7 +201,7 @@ RegisterCommand reg{
            ->check(CLI::IsMember({2, 4, 6, 8, 10, 12, 14}));
        sub.add_option("--align-opposite", a->align_opposite,
                       "pack the two faces of a wall up to T sizes thick from the same points, "
-                      "the smaller face seeded from the larger (study; 0 = off)")
+                      "the smaller face seeded from the larger (default 2; 0 = off)")
            ->check(CLI::Range(0.0, 10.0));
        sub.add_flag("--tetgen-delaunay-recovery", a->volume.tetgen_delaunay_recovery,
                     "let TetGen make the faces next to the boundary Delaunay again after "

@@ -53,7 +53,7 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
       ->check(CLI::Range(0, 1000));
   sub.add_option("--align-opposite", o.align_opposite,
                  "CAD input: pack the two faces of a wall up to T sizes thick from the same points "
-                 "(mesher study switch, as on `mesh`)")
+                 "(default 2, 0 = off; as on `mesh`)")
       ->check(CLI::Range(0.0, 10.0));
   sub.add_flag("--glue", o.glue, std::string("CAD input: ") + kGlueHelp);
   o.singular_size_given = sub.add_option(
@@ -139,7 +139,7 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const GradedEdg
   for (int e : edges) m.surface.edge_sizes.emplace_back(e, graded.fraction * h);
   m.volume.conformal = o.conformal;
   m.volume.relax_points = std::max(0, o.relax_points);
-  m.surface.align_opposite = std::max(0.0, o.align_opposite);
+  if (o.align_opposite >= 0) m.surface.align_opposite = o.align_opposite;  // else the default
   m.volume.no_pyramids = o.no_pyramids;
   m.read.glue = o.glue;
   return m;

@@ -32,7 +32,7 @@ struct ModalCliOptions {
   // switch, volume_points.hpp); -1 (not given) is none.
   int relax_points = -1;
   // --align-opposite T, CAD input: the faces of walls up to T sizes thick packed from the same
-  // points (a mesher study switch, surface_points.hpp); -1 (not given) is off.
+  // points (surface_points.hpp); -1 (not given) is the mesher's default (2).
   double align_opposite = -1;
   // --no-pyramids, CAD input: the mesher makes no pyramids (quad faces against two triangles
   // stay NC); at order 2 such a face is tied (fem/nc_ties.hpp).
