@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <deque>
 #include <string>
 
@@ -197,6 +198,19 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
   return out;
 }
 
+namespace {
+
+// A number in [0, 1) that depends only on i (splitmix64): the same seeds on every machine.
+double seed_fraction(std::uint64_t i) {
+  std::uint64_t z = 0x9E3779B97F4A7C15ull * (i + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-53;
+}
+
+}  // namespace
+
 std::vector<Vec2> opposite_seeds(const CadModel& cad, const FaceField& field,
                                  const std::vector<SeedCandidate>& candidates,
                                  double max_thickness) {
@@ -204,7 +218,8 @@ std::vector<Vec2> opposite_seeds(const CadModel& cad, const FaceField& field,
   const double cos_opposite = 0.9063;  // cos 25 deg
   FaceProjector projector(cad, f);
   std::vector<Vec2> seeds;
-  for (const SeedCandidate& c : candidates) {
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const SeedCandidate& c = candidates[i];
     Vec2 uv;
     if (!projector.project(c.p, c.start, uv) || !cad.contains(f, uv)) continue;
     const Frame fr = field.frame(uv);
@@ -214,13 +229,17 @@ std::vector<Vec2> opposite_seeds(const CadModel& cad, const FaceField& field,
     if (dist < 0.3 * fr.h || dist > max_thickness * fr.h) continue;
     const Vec3 n = cad.normal(f, uv), ns = cad.normal(c.face, c.source_uv);
     if (dot(n, ns) > -cos_opposite || dot(d, n) > -cos_opposite * dist) continue;
-    // Off the exact projection by h/20 along (d1 + d2/2): four points in pairs straight across
-    // a planar wall are coplanar, and TetGen may join them by a flat tet that no element
-    // absorbs (seen on 40mm_capot).
+    // Off the exact projection by h/20: four points in pairs straight across a planar wall are
+    // coplanar, and TetGen may join them by a flat tet that no element absorbs (seen on
+    // 40mm_capot). The direction turns from seed to seed: two pairs moved by the same vector
+    // are a parallelogram, coplanar again (ANC101 at h = 2: three flat tets, the volume
+    // pipeline run twice).
     Vec2 du;
     const double s = 0.05 * fr.h;
-    const Vec3 shift{s * (fr.d1[0] + 0.5 * fr.d2[0]), s * (fr.d1[1] + 0.5 * fr.d2[1]),
-                     s * (fr.d1[2] + 0.5 * fr.d2[2])};
+    const double angle = 6.283185307179586 * seed_fraction(i);
+    const double a = s * std::cos(angle), b = s * std::sin(angle);
+    const Vec3 shift{a * fr.d1[0] + b * fr.d2[0], a * fr.d1[1] + b * fr.d2[1],
+                     a * fr.d1[2] + b * fr.d2[2]};
     if (!parametric_step(fr, shift, du)) continue;
     seeds.push_back({uv[0] + du[0], uv[1] + du[1]});
   }

@@ -45,7 +45,8 @@ def mesh(hexfem, model, h, extra, timeout):
     tetgen = sum(s["seconds"] for s in j["pipeline_stages"] if "tetgen" in s.get("name", ""))
     return {"h_nbr": j["h_nbr_percent"], "h_vol": j["h_vol_percent"], "nc": j["nc_percent"],
             "q": j["q_mean"], "inverted": j["inverted"], "vertices": j["vertices"],
-            "tetgen_s": tetgen, "total_s": j["total_seconds"]}
+            "tetgen_s": tetgen, "total_s": j["total_seconds"],
+            "flat_retry_points": j.get("flat_retry_points", 0)}
 
 
 def paired_runs(hexfem, models_dir, divs, first, second, names, timeout, progress=False):

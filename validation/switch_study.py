@@ -4,7 +4,7 @@
 table (vertices, H_nbr, H_vol, NC, mean Q, inverted, seconds), the mean change of each column and
 the models that lose more than one point of H_vol.
 
-    /usr/bin/python3 validation/switch_study.py --switch "--relax-points 5"
+    /usr/bin/python3 validation/switch_study.py --switch "--relax-points 5" [--base "..."]
         [--hexfem build/app/hexfem] [--models ../shared/models] [--divs 30,60] [--timeout 600]
         [--json out.json]
 """
@@ -22,6 +22,7 @@ ROOT = Path(__file__).resolve().parent.parent
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--switch", required=True, help="switches of the new run, one string")
+    ap.add_argument("--base", default="", help="switches of the old run (default: none)")
     ap.add_argument("--hexfem", default=str(ROOT / "build/app/hexfem"))
     ap.add_argument("--models", default=str(ROOT.parent / "shared/models"))
     ap.add_argument("--divs", default="30,60")
@@ -29,9 +30,10 @@ def main():
     ap.add_argument("--json")
     a = ap.parse_args()
     switch = shlex.split(a.switch)
-    rows = paired_runs(a.hexfem, a.models, [int(x) for x in a.divs.split(",")], [], switch,
+    rows = paired_runs(a.hexfem, a.models, [int(x) for x in a.divs.split(",")],
+                       shlex.split(a.base), switch,
                        ("old", "new"), a.timeout, progress=True)
-    print(f"\nDefault → `{a.switch}`:\n")
+    print(f"\n`{a.base or '(default)'}` → `{a.switch or '(default)'}`:\n")
     print("| model | h | vertices | H_nbr | H_vol | NC | Q | inverted | s |")
     print("|---|---:|---:|---|---|---|---|---:|---|")
     for r in rows:
@@ -55,6 +57,9 @@ def main():
                  if r["new"]["h_vol"] < r["old"]["h_vol"] - 1]
         print(f"- /{div}, {len(sub)} meshes, means: {', '.join(parts)}; H_vol worse by more "
               f"than 1 point: {', '.join(worse) or 'none'}")
+    print(f"- meshes run again for flat tets (flat_retry_points > 0): old "
+          f"{sum(1 for r in ok if r['old'].get('flat_retry_points', 0))}, new "
+          f"{sum(1 for r in ok if r['new'].get('flat_retry_points', 0))}")
     print(f"- inverted (new): {sum(r['new']['inverted'] for r in ok)}; refused: "
           f"{sum(1 for r in rows if r not in ok)} of {len(rows)} (either way)")
     if a.json:
