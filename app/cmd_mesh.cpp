@@ -33,6 +33,7 @@ struct MeshArgs {
   std::string hex_selection = "greedy";
   bool binary = false;
   double align_opposite = SurfaceOptions{}.align_opposite;
+  bool edge_spacing_size = false;
   bool glue = false;
 };
 
@@ -56,6 +57,7 @@ int run(const MeshArgs& a) {
   opt.curvature = a.curvature;
   opt.force = a.force;
   opt.align_opposite = a.align_opposite;
+  opt.sizes_from_edge_spacing = a.edge_spacing_size;
   parse_size_at(a.size_at, a.h, opt.vertex_sizes, opt.face_sizes, opt.edge_sizes);
   if (a.dim == 3) {
     VolumeMeshArgs v;
@@ -203,6 +205,9 @@ RegisterCommand reg{
                       "pack the two faces of a wall up to T sizes thick from the same points, "
                       "the smaller face seeded from the larger (default 2; 0 = off)")
            ->check(CLI::Range(0.0, 10.0));
+       sub.add_flag("--edge-spacing-size", a->edge_spacing_size,
+                    "each edge point's size is the spacing its edge got (a whole number of "
+                    "segments), not the size field's, for the faces and the volume (study)");
        sub.add_flag("--tetgen-delaunay-recovery", a->volume.tetgen_delaunay_recovery,
                     "let TetGen make the faces next to the boundary Delaunay again after "
                     "recovering it (tetgen -pY; slower at scale; study)");

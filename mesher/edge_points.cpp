@@ -678,6 +678,33 @@ std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b) {
   return out;
 }
 
+void sizes_from_edge_spacing(const CadModel& cad, EdgePoints& p) {
+  std::vector<double> out = p.size;
+  std::vector<char> vertex_seen(p.size.size(), 0);
+  for (int e = 1; e <= cad.num_edges(); ++e) {
+    if (cad.edge_degenerate(e)) continue;
+    const auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
+    const std::size_t n = nodes.size();
+    if (n < 2) continue;
+    std::vector<double> seg(n - 1);
+    for (std::size_t k = 0; k + 1 < n; ++k)
+      seg[k] = norm(v3::sub(p.xyz[static_cast<std::size_t>(nodes[k + 1])],
+                            p.xyz[static_cast<std::size_t>(nodes[k])]));
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto id = static_cast<std::size_t>(nodes[k]);
+      if (p.node_edge[id] == 0) {  // a CAD vertex: its shortest segment over its edges
+        const double s = k == 0 ? seg.front() : seg.back();
+        if (!(s > 0)) continue;
+        out[id] = std::min(p.size[id], vertex_seen[id] ? std::min(out[id], s) : s);
+        vertex_seen[id] = 1;
+      } else {
+        out[id] = std::min(p.size[id], 0.5 * (seg[k - 1] + seg[k]));
+      }
+    }
+  }
+  p.size = out;
+}
+
 EdgePoints discretise_edges(const CadModel& cad, const SizeField& size) {
   std::vector<double> density(static_cast<std::size_t>(cad.num_edges()), 1.0);
   EdgePoints p;

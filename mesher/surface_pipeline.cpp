@@ -497,7 +497,8 @@ SurfaceMesh mesh_surface_once(const CadModel& cad, const SurfaceOptions& options
   lap("size field");
 
   show_progress("surface mesh: edge points");
-  const EdgePoints edges = discretise_edges(cad, size);
+  EdgePoints edges = discretise_edges(cad, size);
+  if (options.sizes_from_edge_spacing) sizes_from_edge_spacing(cad, edges);
   FaceWork w = face_boundaries(cad, size, edges, options);
   rep.edge_points = edges.xyz.size();
   lap("edge points");
