@@ -679,10 +679,41 @@ std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b) {
 }
 
 void sizes_from_edge_spacing(const CadModel& cad, EdgePoints& p) {
+  // Each edge's spacing over its points' sizes; an edge whose faces' edges all have about the
+  // same ratio takes its spacing (a face whose edges disagree would get a size varying inside).
+  const auto ne = static_cast<std::size_t>(cad.num_edges());
+  std::vector<double> ratio(ne, 0);
+  for (int e = 1; e <= cad.num_edges(); ++e) {
+    const auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
+    if (cad.edge_degenerate(e) || nodes.size() < 2) continue;
+    double length = 0, hsum = 0;
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      hsum += p.size[static_cast<std::size_t>(nodes[k])];
+      if (k > 0)
+        length += norm(v3::sub(p.xyz[static_cast<std::size_t>(nodes[k])],
+                               p.xyz[static_cast<std::size_t>(nodes[k - 1])]));
+    }
+    ratio[static_cast<std::size_t>(e - 1)] =
+        length / static_cast<double>(nodes.size() - 1) / (hsum / static_cast<double>(nodes.size()));
+  }
+  std::vector<char> agree(static_cast<std::size_t>(cad.num_faces()) + 1, 1);
+  for (int f = 1; f <= cad.num_faces(); ++f) {
+    double lo = 1e300, hi = 0;
+    for (const CoEdge& ce : cad.coedges(f)) {
+      const double r = ratio[static_cast<std::size_t>(ce.edge - 1)];
+      if (r <= 0) continue;
+      lo = std::min(lo, r);
+      hi = std::max(hi, r);
+    }
+    agree[static_cast<std::size_t>(f)] = hi <= 1.05 * lo;
+  }
   std::vector<double> out = p.size;
   std::vector<char> vertex_seen(p.size.size(), 0);
   for (int e = 1; e <= cad.num_edges(); ++e) {
     if (cad.edge_degenerate(e)) continue;
+    bool eligible = true;
+    for (int f : cad.faces_of_edge(e)) eligible = eligible && agree[static_cast<std::size_t>(f)];
+    if (!eligible) continue;
     const auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
     const std::size_t n = nodes.size();
     if (n < 2) continue;

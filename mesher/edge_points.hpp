@@ -46,7 +46,8 @@ EdgePoints discretise_edges(const CadModel& cad, const SizeField& size);
 FaceBoundary face_boundary(const CadModel& cad, int f, const EdgePoints& points);
 
 // Each edge point's size becomes the spacing of its edge there where that is smaller (the mean
-// of its two segments; a vertex takes its shortest segment). An edge of length L gets a whole
+// of its two segments; a vertex takes its shortest segment), on the edges whose faces' edges
+// all got about the same spacing over size (within 5 %). An edge of length L gets a whole
 // number of segments, so its spacing differs from the field's h where L / h is not near a whole
 // number (a 1 mm cube at h = 0.4: 3 segments of 0.33). The faces and the volume then fill in at
 // the edges' spacing instead of meeting it off step. Never larger: the volume takes the largest
