@@ -206,8 +206,8 @@ RegisterCommand reg{
                       "the smaller face seeded from the larger (default 2; 0 = off)")
            ->check(CLI::Range(0.0, 10.0));
        sub.add_flag("--edge-spacing-size", a->edge_spacing_size,
-                    "each edge point's size is the spacing its edge got (a whole number of "
-                    "segments), not the size field's, for the faces and the volume (study)");
+                    "an edge point's size is the spacing its edge got (a whole number of "
+                    "segments) where smaller and where its faces' edges agree (study)");
        sub.add_flag("--tetgen-delaunay-recovery", a->volume.tetgen_delaunay_recovery,
                     "let TetGen make the faces next to the boundary Delaunay again after "
                     "recovering it (tetgen -pY; slower at scale; study)");

@@ -68,13 +68,12 @@ bool circumcentre(const Vec3 (&x)[4], Vec3& c, Eigen::Matrix3d& binv) {
   return true;
 }
 
-// The energy of one interior point's cell and its derivatives: direct (x_i) and through the
-// Voronoi vertices (per Delaunay cell).
+// The energy of one point's cell and its derivatives: direct (x_i) and through the Voronoi
+// vertices (per Delaunay cell).
 struct PointTerms {
   double energy = 0;
   Vec3 grad{0, 0, 0};
   std::vector<std::pair<std::int32_t, Vec3>> by_cell;  // d energy / d circumcentre
-  bool bounded = true;
 };
 
 class Evaluator {
@@ -122,7 +121,7 @@ class Evaluator {
       cells.push_back(g);
       binvs.push_back(binv);
     }
-    // Each interior vertex's edges (serial: CGAL marks cells while it collects them).
+    // Each counted point's edges (serial: CGAL marks cells while it collects them).
     std::vector<Delaunay::Vertex_handle> vh(x.size());
     for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) vh[v->info()] = v;
     std::vector<std::size_t> first(ne_ + 1, 0);
@@ -192,8 +191,7 @@ class Evaluator {
       do {
         const std::int32_t c = circ->info();
         if (c < 0) {
-          out = PointTerms{};
-          out.bounded = false;  // on the convex hull: an unbounded cell, left alone
+          out = PointTerms{};  // on the convex hull: an unbounded cell, left out
           return;
         }
         ring.push_back(c);
