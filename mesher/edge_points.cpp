@@ -679,23 +679,25 @@ std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b) {
 }
 
 void sizes_from_edge_spacing(const CadModel& cad, EdgePoints& p) {
-  // Each edge's spacing over its points' sizes; an edge whose faces' edges all have about the
-  // same ratio takes its spacing (a face whose edges disagree would get a size varying inside).
+  // Each edge's segments, and its spacing over its points' sizes.
   const auto ne = static_cast<std::size_t>(cad.num_edges());
+  std::vector<std::vector<double>> seg(ne);
   std::vector<double> ratio(ne, 0);
-  for (int e = 1; e <= cad.num_edges(); ++e) {
-    const auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
-    if (cad.edge_degenerate(e) || nodes.size() < 2) continue;
-    double length = 0, hsum = 0;
-    for (std::size_t k = 0; k < nodes.size(); ++k) {
+  for (std::size_t e = 0; e < ne; ++e) {
+    const auto& nodes = p.node[e];
+    if (cad.edge_degenerate(static_cast<int>(e + 1)) || nodes.size() < 2) continue;
+    double length = 0, hsum = p.size[static_cast<std::size_t>(nodes[0])];
+    for (std::size_t k = 1; k < nodes.size(); ++k) {
+      seg[e].push_back(norm(v3::sub(p.xyz[static_cast<std::size_t>(nodes[k])],
+                                    p.xyz[static_cast<std::size_t>(nodes[k - 1])])));
+      length += seg[e].back();
       hsum += p.size[static_cast<std::size_t>(nodes[k])];
-      if (k > 0)
-        length += norm(v3::sub(p.xyz[static_cast<std::size_t>(nodes[k])],
-                               p.xyz[static_cast<std::size_t>(nodes[k - 1])]));
     }
-    ratio[static_cast<std::size_t>(e - 1)] =
-        length / static_cast<double>(nodes.size() - 1) / (hsum / static_cast<double>(nodes.size()));
+    ratio[e] =
+        length / static_cast<double>(seg[e].size()) / (hsum / static_cast<double>(nodes.size()));
   }
+  // An edge takes its spacing when all the edges of each of its faces have about the same ratio
+  // (a face whose edges disagree would get a size varying inside).
   std::vector<char> agree(static_cast<std::size_t>(cad.num_faces()) + 1, 1);
   for (int f = 1; f <= cad.num_faces(); ++f) {
     double lo = 1e300, hi = 0;
@@ -709,27 +711,23 @@ void sizes_from_edge_spacing(const CadModel& cad, EdgePoints& p) {
   }
   std::vector<double> out = p.size;
   std::vector<char> vertex_seen(p.size.size(), 0);
-  for (int e = 1; e <= cad.num_edges(); ++e) {
-    if (cad.edge_degenerate(e)) continue;
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (seg[e].empty()) continue;
     bool eligible = true;
-    for (int f : cad.faces_of_edge(e)) eligible = eligible && agree[static_cast<std::size_t>(f)];
+    for (int f : cad.faces_of_edge(static_cast<int>(e + 1)))
+      eligible = eligible && agree[static_cast<std::size_t>(f)];
     if (!eligible) continue;
-    const auto& nodes = p.node[static_cast<std::size_t>(e - 1)];
-    const std::size_t n = nodes.size();
-    if (n < 2) continue;
-    std::vector<double> seg(n - 1);
-    for (std::size_t k = 0; k + 1 < n; ++k)
-      seg[k] = norm(v3::sub(p.xyz[static_cast<std::size_t>(nodes[k + 1])],
-                            p.xyz[static_cast<std::size_t>(nodes[k])]));
-    for (std::size_t k = 0; k < n; ++k) {
+    const auto& nodes = p.node[e];
+    const auto& sg = seg[e];
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
       const auto id = static_cast<std::size_t>(nodes[k]);
       if (p.node_edge[id] == 0) {  // a CAD vertex: its shortest segment over its edges
-        const double s = k == 0 ? seg.front() : seg.back();
+        const double s = k == 0 ? sg.front() : sg.back();
         if (!(s > 0)) continue;
         out[id] = std::min(p.size[id], vertex_seen[id] ? std::min(out[id], s) : s);
         vertex_seen[id] = 1;
       } else {
-        out[id] = std::min(p.size[id], 0.5 * (seg[k - 1] + seg[k]));
+        out[id] = std::min(p.size[id], 0.5 * (sg[k - 1] + sg[k]));
       }
     }
   }

@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <deque>
+#include <numbers>
 #include <string>
 
 #include "mesher/mesh/error.hpp"
 #include "mesher/rtree2d.hpp"
+#include "mesher/splitmix.hpp"
 #include "mesher/vec3.hpp"
 
 namespace hexfem {
@@ -198,19 +199,6 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
   return out;
 }
 
-namespace {
-
-// A number in [0, 1) that depends only on i (splitmix64): the same seeds on every machine.
-double seed_fraction(std::uint64_t i) {
-  std::uint64_t z = 0x9E3779B97F4A7C15ull * (i + 1);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * 0x1.0p-53;
-}
-
-}  // namespace
-
 std::vector<Vec2> opposite_seeds(const CadModel& cad, const FaceField& field,
                                  const std::vector<SeedCandidate>& candidates,
                                  double max_thickness) {
@@ -236,7 +224,7 @@ std::vector<Vec2> opposite_seeds(const CadModel& cad, const FaceField& field,
     // pipeline run twice).
     Vec2 du;
     const double s = 0.05 * fr.h;
-    const double angle = 6.283185307179586 * seed_fraction(i);
+    const double angle = 2 * std::numbers::pi * splitmix_at(i);
     const double a = s * std::cos(angle), b = s * std::sin(angle);
     const Vec3 shift{a * fr.d1[0] + b * fr.d2[0], a * fr.d1[1] + b * fr.d2[1],
                      a * fr.d1[2] + b * fr.d2[2]};

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "mesher/mesh/error.hpp"
+#include "mesher/splitmix.hpp"
 #include "mesher/vec3.hpp"
 
 namespace hexfem {
@@ -398,18 +399,6 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
   }
   return out;
 }
-
-// splitmix64: a portable generator (std distributions differ between standard libraries).
-struct SplitMix {
-  std::uint64_t s;
-  double uniform() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return static_cast<double>(z >> 11) * 0x1.0p-53;
-  }
-};
 
 // Random points, same tests (inside, off the boundary, oriented exclusion), until `target` are
 // placed or the space is saturated.

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "mesher/splitmix.hpp"
 #include "mesher/volume_points_lpcvt.hpp"
 #include "tests/cad/cad_test_util.hpp"
 
@@ -20,13 +21,9 @@ namespace {
 
 const Frame kAxes{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
 
-// splitmix64, for jitter that is the same everywhere.
+// Jitter in [-0.5, 0.5) that is the same everywhere.
 double jitter(std::uint64_t i) {
-  std::uint64_t z = 0x9E3779B97F4A7C15ull * (i + 1);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * 0x1.0p-53 - 0.5;
+  return splitmix_at(i) - 0.5;
 }
 
 // A lattice of spacing a, n + 1 points a side: the boundary points first (fixed), then the
