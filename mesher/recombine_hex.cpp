@@ -148,6 +148,22 @@ std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOpti
   return list;
 }
 
+std::vector<Candidate> fillable_hex_list(const TetTopology& topo, const HexOptions& options,
+                                         const QualityBand& band) {
+  const double corner_min = std::max(options.min_quality, static_cast<double>(band.from) - 1e-6);
+  return collect_candidates(static_cast<std::int32_t>(topo.num_vertices()),
+                            [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
+                              thread_local std::vector<HexCorners> found;
+                              found.clear();
+                              hexes_from(topo, v, corner_min, scratch, nullptr, band.from,
+                                         band.below, found);
+                              for (const HexCorners& h : found) {
+                                Candidate c = h.candidate();
+                                if (fills_element(topo, c, nullptr, options.fill)) out.push_back(c);
+                              }
+                            });
+}
+
 std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
                                  ConformityIndex& index, std::size_t* candidates) {
   // The greedy order in bands of quality, best first: the best band is found and placed first;

@@ -45,6 +45,12 @@ SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions
 // them band by band instead).
 std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOptions& options);
 
+// The candidates of hex_candidate_list that tets fill whether free or not (fills_element without
+// `used`), with their tets, best first. The fill test runs where each hex is found, while its
+// vertices' tets are in cache: at a million vertices twice as fast as on the sorted list.
+std::vector<Candidate> fillable_hex_list(const TetTopology& topo, const HexOptions& options,
+                                         const QualityBand& band = {});
+
 // The paper's greedy placement of every candidate hex, best first, into s (place_greedily),
 // band by band; adds the number of candidates enumerated to *candidates. Returns the hexes
 // placed.

@@ -120,7 +120,7 @@ void choose_compatible(const std::vector<Candidate>& pool, const std::vector<std
 
 }  // namespace
 
-SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& cands,
+SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& pool,
                             const SwapOptions& o) {
   SwapReport rep;
   const TetTopology& topo = s.topo;
@@ -130,25 +130,6 @@ SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& can
   const std::size_t n0 = s.elements.size();
   for (const Candidate& e : s.elements) p.add(e, -1);
 
-  // The pool: every candidate that tets fill, placed or not, best first (cands' order). The
-  // fill test without `used` on all threads, in chunks to bound the copies.
-  std::vector<Candidate> pool;
-  constexpr std::size_t kChunk = 1 << 16;
-  std::vector<Candidate> chunk;
-  std::vector<char> fills;
-  for (std::size_t start = 0; start < cands.size(); start += kChunk) {
-    const std::size_t end = std::min(cands.size(), start + kChunk);
-    const auto count = static_cast<std::ptrdiff_t>(end - start);
-    chunk.assign(cands.begin() + static_cast<std::ptrdiff_t>(start),
-                 cands.begin() + static_cast<std::ptrdiff_t>(end));
-    fills.assign(chunk.size(), 0);
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::ptrdiff_t k = 0; k < count; ++k)
-      fills[k] = chunk[k].quality >= o.min_quality &&
-                 fills_element(topo, chunk[k], nullptr, s.limits.fill);
-    for (std::ptrdiff_t k = 0; k < count; ++k)
-      if (fills[k]) pool.push_back(chunk[k]);
-  }
   rep.fillable = pool.size();
   // Which of them greedy placed; the others count only above the swap's quality floor.
   std::vector<std::int32_t> in(pool.size(), -1);

@@ -48,9 +48,10 @@ struct SwapReport {
 bool compatible(const Candidate& a, const Candidate& b);
 
 // The 1-for-k swaps (k >= 2) and the insertion of candidates that became free, in rounds until
-// none is left or max_rounds. `cands`: the list place_greedily took (its tets need not be set).
-// Element order in s.elements: the kept ones as before, then the ones put in.
-SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& cands,
+// none is left or max_rounds. `pool`: every candidate at or above options.min_quality that tets
+// fill, placed or not, with its tets, best first (fillable_hex_list). Element order in
+// s.elements: the kept ones as before, then the ones put in.
+SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& pool,
                             const SwapOptions& options = {});
 
 }  // namespace hexfem

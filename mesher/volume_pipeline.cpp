@@ -80,8 +80,11 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
   place_hexes_greedily(s, ho, index, &r.hex_candidates);
   r.stages.push_back(timer.lap("hexes"));
   if (selection != HexSelection::kSwap) return;
-  // The swaps look at every candidate, placeable or not: the whole list, found again.
-  r.hex_swaps = improve_by_swaps(s, hex_candidate_list(s.topo, ho));
+  // The swaps look at every candidate, placeable or not, found again; those below the swaps'
+  // quality floor would never enter their pool, so the search is pruned there.
+  const SwapOptions so;
+  const QualityBand floor{static_cast<float>(so.min_quality)};
+  r.hex_swaps = improve_by_swaps(s, fillable_hex_list(s.topo, ho, floor), so);
   // The index has no removal: rebuilt from the elements kept and put in.
   index = ConformityIndex{};
   index.reserve(s.used.size() / 6);

@@ -53,7 +53,11 @@ Placed place(const Lattice& L, bool swap, const SwapOptions& options = {}) {
   ConformityIndex index;
   Placed P;
   P.greedy = place_greedily(state, cands, index);
-  if (swap) P.report = improve_by_swaps(state, cands, options);
+  if (swap)
+    P.report = improve_by_swaps(
+        state,
+        fillable_hex_list(topo, HexOptions{}, QualityBand{static_cast<float>(options.min_quality)}),
+        options);
   EXPECT_NO_THROW(state.verify());
   ConformityIndex fresh;
   std::vector<char> seen(state.used.size(), 0);
