@@ -33,7 +33,7 @@ struct MeshArgs {
   std::string hex_selection = "greedy";
   bool binary = false;
   double align_opposite = SurfaceOptions{}.align_opposite;
-  bool edge_spacing_size = false;
+  bool edge_spacing_size = SurfaceOptions{}.sizes_from_edge_spacing;
   bool glue = false;
 };
 
@@ -193,7 +193,7 @@ RegisterCommand reg{
                     "extended harmonically over a grid (study)");
        sub.add_option("--relax-points", a->volume.relax_points,
                       "Jacobi sweeps moving each interior point towards its lattice neighbours "
-                      "after the frontal insertion (study)")
+                      "after the frontal insertion (default 30; 0 = off)")
            ->check(CLI::Range(0, 1000));
        sub.add_option("--lp-cvt", a->volume.lp_cvt,
                       "L-BFGS iterations of an Lp-CVT optimisation of the interior points "
@@ -205,9 +205,10 @@ RegisterCommand reg{
                       "pack the two faces of a wall up to T sizes thick from the same points, "
                       "the smaller face seeded from the larger (default 2; 0 = off)")
            ->check(CLI::Range(0.0, 10.0));
-       sub.add_flag("--edge-spacing-size", a->edge_spacing_size,
+       sub.add_flag("--edge-spacing-size,!--no-edge-spacing-size", a->edge_spacing_size,
                     "an edge point's size is the spacing its edge got (a whole number of "
-                    "segments) where smaller and where its faces' edges agree (study)");
+                    "segments) where smaller and where its faces' edges agree (default; "
+                    "--no-edge-spacing-size: the size field's)");
        sub.add_flag("--tetgen-delaunay-recovery", a->volume.tetgen_delaunay_recovery,
                     "let TetGen make the faces next to the boundary Delaunay again after "
                     "recovering it (tetgen -pY; slower at scale; study)");

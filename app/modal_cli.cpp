@@ -49,7 +49,7 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
           " at order 2 (never finer than h/2 from it), off at order 1");
   sub.add_option("--relax-points", o.relax_points,
                  "CAD input: sweeps moving each interior point towards its lattice neighbours "
-                 "(mesher study switch, as on `mesh`)")
+                 "(default 30, 0 = off; as on `mesh`)")
       ->check(CLI::Range(0, 1000));
   sub.add_option("--align-opposite", o.align_opposite,
                  "CAD input: pack the two faces of a wall up to T sizes thick from the same points "
@@ -138,7 +138,7 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const GradedEdg
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   for (int e : edges) m.surface.edge_sizes.emplace_back(e, graded.fraction * h);
   m.volume.conformal = o.conformal;
-  m.volume.relax_points = std::max(0, o.relax_points);
+  if (o.relax_points >= 0) m.volume.relax_points = o.relax_points;         // else the default
   if (o.align_opposite >= 0) m.surface.align_opposite = o.align_opposite;  // else the default
   m.volume.no_pyramids = o.no_pyramids;
   m.read.glue = o.glue;

@@ -28,8 +28,8 @@ struct ModalCliOptions {
   // --curvature, CAD input: elements per turn on curved edges and faces; not given
   // (curvature_given) is the order's default: kOrder2Curvature at order 2, none at order 1.
   int curvature = 0;
-  // --relax-points, CAD input: lattice relaxation sweeps of the interior points (a mesher study
-  // switch, volume_points.hpp); -1 (not given) is none.
+  // --relax-points, CAD input: lattice relaxation sweeps of the interior points
+  // (volume_points.hpp); -1 (not given) is the mesher's default (30).
   int relax_points = -1;
   // --align-opposite T, CAD input: the faces of walls up to T sizes thick packed from the same
   // points (surface_points.hpp); -1 (not given) is the mesher's default (2).

@@ -30,9 +30,11 @@ struct SurfaceOptions {
   // one model loses more than a point (control arm at / 30, -1.1), thin walls gain up to 27
   // points (validation/volume.md, "Thin walls ... the default").
   double align_opposite = 2;
-  // --edge-spacing-size: each edge point's size is the spacing its edge got, not the field's
-  // (sizes_from_edge_spacing; a study switch, off by default).
-  bool sizes_from_edge_spacing = false;
+  // Each edge point's size is the spacing its edge got, not the field's (sizes_from_edge_spacing;
+  // --no-edge-spacing-size turns it off). On by default since session 29: a cube whose side h
+  // does not divide is still a grid, and with relax_points the shared models gain (volume.md,
+  // "Relaxation and edge spacing by default").
+  bool sizes_from_edge_spacing = true;
   bool force = false;  // allow more than max_points
   // Surface points estimated before the work (from h, then from the sizes the edges got): 1e6
   // surface points make tens of millions of volume vertices, past this machine's memory; a thin

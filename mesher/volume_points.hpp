@@ -45,7 +45,8 @@ struct VolumePointsOptions {
   // from the surface frames; overrides inherit_frame. Off by default (issue 16 study).
   bool smooth_frame = false;
   SmoothFrameOptions smooth;
-  // Jacobi sweeps of the lattice relaxation after the frontal insertion (0: none; study).
+  // Jacobi sweeps of the lattice relaxation after the frontal insertion (0: none; the pipeline
+  // asks for 30, VolumeOptions::relax_points).
   int relax_iterations = 0;
   // Lp-CVT optimisation of the interior points after the insertion (volume_points_lpcvt.hpp;
   // iterations 0: none; study).

@@ -183,10 +183,12 @@ TEST(SingularEdges, TheGradedHousingIsMoreAccurateWithFewerDofs) {
 // make a flat tet of four surface nodes (a planar rectangle) that no flip or lift removes, and the
 // mesher refused ("1 flat cells"). Now the pipeline runs again with an interior point beside it
 // (points_beside_flat_tets): a valid mesh of the CAD volume (the mesher writes none with a flat
-// or inverted cell), the same bytes on every run.
+// or inverted cell), the same bytes on every run. The points as before session 29 (no
+// relaxation, the field's edge sizes): the default's points make no flat tet here.
 TEST(SingularEdges, AFlatTetOfFourSurfaceNodesIsMeshedAgainWithAPointBeside) {
   const std::string args =
-      "mesh " + data("cylinder.stp") + " --h 2 --size-at face:3=0.15h --json -o ";
+      "mesh " + data("cylinder.stp") +
+      " --h 2 --size-at face:3=0.15h --relax-points 0 --no-edge-spacing-size --json -o ";
   int rc = 0;
   const auto j = cadtest::run_cli_json(args + cadtest::work("flat1.msh").string(), &rc);
   ASSERT_EQ(rc, 0) << j;
@@ -201,12 +203,14 @@ TEST(SingularEdges, AFlatTetOfFourSurfaceNodesIsMeshedAgainWithAPointBeside) {
 
 // NIST CTC 01 at h = 7.75 (its diagonal / 120): one flat tet, then, with a point beside it,
 // three elsewhere (TetGen orders co-spherical points differently with one point more), then two,
-// then none: the points accumulate over up to four runs.
+// then none: the points accumulate over up to four runs (the points as before session 29, as
+// above).
 TEST(SingularEdges, FlatTetsThatMoveElsewhereAreRetriedUntilNoneIsLeft) {
   int rc = 0;
   const auto j =
       cadtest::run_cli_json("mesh " + data("0083_nist_ctc_01_asme1_ap242_colored.stp") +
-                                " --h 7.75045 --json -o " + cadtest::work("nist120.msh").string(),
+                                " --h 7.75045 --relax-points 0 --no-edge-spacing-size --json -o " +
+                                cadtest::work("nist120.msh").string(),
                             &rc);
   ASSERT_EQ(rc, 0) << j;
   EXPECT_GE(j["flat_retry_points"].get<int>(), 2);

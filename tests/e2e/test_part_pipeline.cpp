@@ -2,6 +2,7 @@
 // the independent reference (Gmsh tet10 + CalculiX C3D10, Richardson; validation/reference/).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -113,10 +114,14 @@ TEST(PartPipeline, VolumeFarOffTheCadIsAWarning) {
   mesh_part(cad, coarse, &r);
   const double error = (r.stats.volume - exact) / exact;
   ASSERT_GT(std::abs(error), 0.02);
-  ASSERT_EQ(r.warnings.size(), 1u);
+  // (A second warning may say that hexes went back to tets on the chords.)
+  const auto off = std::find_if(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
+    return w.find("off the CAD volume") != std::string::npos;
+  });
+  ASSERT_NE(off, r.warnings.end());
   char pct[32];
   std::snprintf(pct, sizeof pct, "%+.1f %%", 100 * error);
-  EXPECT_NE(r.warnings[0].find(pct), std::string::npos) << r.warnings[0];
+  EXPECT_NE(off->find(pct), std::string::npos) << *off;
   MeshOptions fine;
   fine.surface.h = 1.0;
   MeshReport rf;

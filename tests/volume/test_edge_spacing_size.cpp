@@ -1,7 +1,7 @@
-// Sizes from the edges' spacing (SurfaceOptions::sizes_from_edge_spacing, --edge-spacing-size):
-// a unit cube meshed at a size that does not divide its side is a structured grid of n^3 hexes
-// (n the segments its edges got), as at a size that does; without the switch, the faces and the
-// volume packed at h meet the edges' spacing off step (h = 0.4: no hex at all).
+// Sizes from the edges' spacing (SurfaceOptions::sizes_from_edge_spacing, the default): a unit
+// cube meshed at a size that does not divide its side is a structured grid of n^3 hexes (n the
+// segments its edges got), as at a size that does; without it (--no-edge-spacing-size), the faces
+// and the volume packed at h meet the edges' spacing off step (h = 0.4: no hex at all).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -26,7 +26,7 @@ nlohmann::json mesh_cube(double h, const std::string& switches) {
 
 TEST(EdgeSpacingSize, AUnitCubeAtAnyHIsAStructuredGrid) {
   for (double h : {0.4, 0.38, 0.28, 0.22}) {
-    const nlohmann::json j = mesh_cube(h, "--edge-spacing-size");
+    const nlohmann::json j = mesh_cube(h, "");
     ASSERT_TRUE(j.contains("vertices")) << h;
     const int n = static_cast<int>(std::lround(std::cbrt(j["vertices"].get<double>()))) - 1;
     EXPECT_EQ(j["vertices"].get<int>(), (n + 1) * (n + 1) * (n + 1)) << "h = " << h;
@@ -34,8 +34,8 @@ TEST(EdgeSpacingSize, AUnitCubeAtAnyHIsAStructuredGrid) {
     EXPECT_EQ(j["num_cells"].get<int>(), n * n * n) << "h = " << h;
     EXPECT_NEAR(1.0 / n, h, 0.5 * h) << "h = " << h;
   }
-  // The default at h = 0.4 (3 segments of 1/3 per edge, faces packed at 0.4).
-  EXPECT_LT(mesh_cube(0.4, "")["h_vol_percent"].get<double>(), 50);
+  // Without it at h = 0.4 (3 segments of 1/3 per edge, faces packed at 0.4).
+  EXPECT_LT(mesh_cube(0.4, "--no-edge-spacing-size")["h_vol_percent"].get<double>(), 50);
 }
 
 }  // namespace
