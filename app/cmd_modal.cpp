@@ -120,6 +120,8 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
       throw Error("--relax-points is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.align_opposite != -1)
       throw Error("--align-opposite is for CAD input; '" + a.mesh + "' is already a mesh");
+    if (a.modal.no_edge_spacing_size)
+      throw Error("--no-edge-spacing-size is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.no_pyramids)
       throw Error("--no-pyramids is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.glue) throw Error("--glue is for CAD input; '" + a.mesh + "' is already a mesh");

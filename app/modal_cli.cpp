@@ -47,9 +47,10 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
       "off). Default: " +
           std::to_string(kOrder2Curvature) +
           " at order 2 (never finer than h/2 from it), off at order 1");
-  sub.add_option("--relax-points", o.relax_points,
-                 "CAD input: sweeps moving each interior point towards its lattice neighbours "
-                 "(default 30, 0 = off; as on `mesh`)")
+  sub.add_option(
+         "--relax-points", o.relax_points,
+         "CAD input: sweeps moving each interior point towards its lattice neighbours "
+         "(default 0 here, 30 on `mesh`: the relaxed points cost order-2 accuracy on curved parts)")
       ->check(CLI::Range(0, 1000));
   sub.add_option("--align-opposite", o.align_opposite,
                  "CAD input: pack the two faces of a wall up to T sizes thick from the same points "
@@ -64,6 +65,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
   sub.add_flag("--no-pyramids", o.no_pyramids,
                "CAD input: make no pyramids (a quad face against two triangles stays NC; tied at "
                "order 2)");
+  sub.add_flag("--no-edge-spacing-size", o.no_edge_spacing_size,
+               "CAD input: size the edge points by the size field, not by the spacing their "
+               "edges got (as on `mesh`)");
   sub.add_flag("--force", o.force,
                "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
 }
@@ -138,9 +142,11 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const GradedEdg
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   for (int e : edges) m.surface.edge_sizes.emplace_back(e, graded.fraction * h);
   m.volume.conformal = o.conformal;
-  if (o.relax_points >= 0) m.volume.relax_points = o.relax_points;         // else the default
+  // Not the mesher's default: see modal_cli.hpp.
+  m.volume.relax_points = std::max(0, o.relax_points);
   if (o.align_opposite >= 0) m.surface.align_opposite = o.align_opposite;  // else the default
   m.volume.no_pyramids = o.no_pyramids;
+  if (o.no_edge_spacing_size) m.surface.sizes_from_edge_spacing = false;
   m.read.glue = o.glue;
   return m;
 }

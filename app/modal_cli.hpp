@@ -29,7 +29,9 @@ struct ModalCliOptions {
   // (curvature_given) is the order's default: kOrder2Curvature at order 2, none at order 1.
   int curvature = 0;
   // --relax-points, CAD input: lattice relaxation sweeps of the interior points
-  // (volume_points.hpp); -1 (not given) is the mesher's default (30).
+  // (volume_points.hpp); -1 (not given) is none, unlike `mesh` (30): more hexes, but at order 2
+  // the sphere's error doubles at equal DOF (validation/volume.md, "Relaxation and edge spacing
+  // by default").
   int relax_points = -1;
   // --align-opposite T, CAD input: the faces of walls up to T sizes thick packed from the same
   // points (surface_points.hpp); -1 (not given) is the mesher's default (2).
@@ -37,6 +39,9 @@ struct ModalCliOptions {
   // --no-pyramids, CAD input: the mesher makes no pyramids (quad faces against two triangles
   // stay NC); at order 2 such a face is tied (fem/nc_ties.hpp).
   bool no_pyramids = false;
+  // --no-edge-spacing-size, CAD input: edge points sized by the size field, not by the spacing
+  // their edges got (surface_pipeline.hpp).
+  bool no_edge_spacing_size = false;
   // --glue, CAD input: solids that touch or overlap fragmented into a bonded assembly.
   bool glue = false;
   // --singular-size F, CAD input: size at the singular edges (re-entrant edges and the rim of
