@@ -162,6 +162,7 @@ TEST(ModalCli, BadOutputsAndNumbersAreRefusedUpFront) {
   expect_error(b + "--relax-points 30", "--relax-points is for CAD input");
   expect_error(b + "--align-opposite 2", "--align-opposite is for CAD input");
   expect_error(b + "--no-pyramids", "--no-pyramids is for CAD input");
+  expect_error(b + "--no-edge-spacing-size", "--no-edge-spacing-size is for CAD input");
   expect_error(b + "--glue", "--glue is for CAD input");
   expect_error(b + "--E nan", "--E must be a finite number");
   expect_error(b + "--nu nan", "--nu must be a finite number");
