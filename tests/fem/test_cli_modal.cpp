@@ -215,5 +215,22 @@ TEST(ModalCli, FreeFreeNeedsNoFix) {
     EXPECT_LT(std::abs(j["modes"][i]["frequency_hz"].get<double>()), 1e-6 * f7);
 }
 
+// `modal` meshes a CAD part without the lattice relaxation that `mesh` does by default (its extra
+// hexes double the sphere's order-2 error at equal DOF): the default is the mesh of
+// `--relax-points 0`, and asking for the relaxation gives another.
+TEST(ModalCli, CadPartIsMeshedWithoutTheRelaxationUnlessAsked) {
+  const std::string base =
+      "modal " + std::string(HEXFEM_TEST_DATA) + "/sphere.stp --h 5 --free --modes 7 --json";
+  auto dofs = [&](const std::string& extra) {
+    const CliRun r = hexfem(base + extra);
+    EXPECT_EQ(r.code, 0) << r.out;
+    return r.code == 0 ? nlohmann::json::parse(r.out)["free_dofs"].get<long>() : -1L;
+  };
+  const long by_default = dofs("");
+  EXPECT_GT(by_default, 0);
+  EXPECT_EQ(by_default, dofs(" --relax-points 0"));
+  EXPECT_NE(by_default, dofs(" --relax-points 30"));
+}
+
 }  // namespace
 }  // namespace hexfem
