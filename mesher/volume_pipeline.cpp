@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "mesher/conformal.hpp"
@@ -77,14 +78,25 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
   ho.min_quality = s.limits.min_quality;
   ho.fill = s.limits.fill;
   r.hex_candidates = 0;
-  place_hexes_greedily(s, ho, index, &r.hex_candidates);
-  r.stages.push_back(timer.lap("hexes"));
-  if (selection != HexSelection::kSwap) return;
-  // The swaps look at every candidate, placeable or not, found again; those below the swaps'
-  // quality floor would never enter their pool, so the search is pruned there.
+  if (selection != HexSelection::kSwap) {
+    place_hexes_greedily(s, ho, index, &r.hex_candidates);
+    r.stages.push_back(timer.lap("hexes"));
+    return;
+  }
+  // The swaps look at every candidate at or above their quality floor, placed or not, with its
+  // tets. Found once, that list is also the greedy pass's down to the floor: a candidate whose
+  // tets are all free is placed without a fill test. The band below follows as in
+  // place_hexes_greedily (any bands place the same hexes); so the same meshes, one search less.
   const SwapOptions so;
-  const QualityBand floor{static_cast<float>(so.min_quality)};
-  r.hex_swaps = improve_by_swaps(s, fillable_hex_list(s.topo, ho, floor), so);
+  const auto floor = static_cast<float>(so.min_quality);
+  std::vector<Candidate> pool = fillable_hex_list(s.topo, ho, QualityBand{floor});
+  place_greedily(s, pool, index);
+  const SortedRuns<HexCorners> below = enumerate_hexes(
+      s.topo, ho, QualityBand{-std::numeric_limits<float>::infinity(), floor}, &s.used);
+  place_greedily(s, below, index);
+  r.hex_candidates = pool.size() + below.size();
+  r.stages.push_back(timer.lap("hexes"));
+  r.hex_swaps = improve_by_swaps(s, pool, so);
   // The index has no removal: rebuilt from the elements kept and put in.
   index = ConformityIndex{};
   index.reserve(s.used.size() / 6);
