@@ -175,17 +175,10 @@ std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
   for (std::size_t b = 0; b <= options.quality_bands.size(); ++b) {
     QualityBand band{-std::numeric_limits<float>::infinity(), below};
     if (b < options.quality_bands.size()) band.from = options.quality_bands[b];
-    if (b == 0) {
-      // The best band is searched with no tet used yet: its fill tests run where each hex is
-      // found (fillable_hex_list), in cache, instead of in the placement's best-first order.
-      std::vector<Candidate> cands = fillable_hex_list(s.topo, options, band);
-      if (candidates) *candidates += cands.size();
-      kept += place_greedily(s, cands, index);
-    } else {
-      const SortedRuns<HexCorners> cands = enumerate_hexes(s.topo, options, band, &s.used);
-      if (candidates) *candidates += cands.size();
-      kept += place_greedily(s, cands, index);
-    }
+    const SortedRuns<HexCorners> cands =
+        enumerate_hexes(s.topo, options, band, b == 0 ? nullptr : &s.used);
+    if (candidates) *candidates += cands.size();
+    kept += place_greedily(s, cands, index);
     below = band.from;
   }
   return kept;
