@@ -120,6 +120,11 @@ void choose_compatible(const std::vector<Candidate>& pool, const std::vector<std
 
 }  // namespace
 
+std::vector<Candidate> swap_pool(const TetTopology& topo, const HexOptions& hex,
+                                 const SwapOptions& o) {
+  return fillable_hex_list(topo, hex, QualityBand{static_cast<float>(o.min_quality)});
+}
+
 SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& pool,
                             const SwapOptions& o) {
   SwapReport rep;

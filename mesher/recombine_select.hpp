@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "mesher/recombine_fill.hpp"
+#include "mesher/recombine_hex.hpp"
 #include "mesher/recombine_state.hpp"
 
 namespace hexfem {
@@ -49,9 +50,13 @@ bool compatible(const Candidate& a, const Candidate& b);
 
 // The 1-for-k swaps (k >= 2) and the insertion of candidates that became free, in rounds until
 // none is left or max_rounds. `pool`: every candidate at or above options.min_quality that tets
-// fill, placed or not, with its tets, best first (fillable_hex_list). Element order in
+// fill, placed or not, with its tets, best first (swap_pool). Element order in
 // s.elements: the kept ones as before, then the ones put in.
 SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& pool,
                             const SwapOptions& options = {});
+
+// That pool: fillable_hex_list at or above options.min_quality.
+std::vector<Candidate> swap_pool(const TetTopology& topo, const HexOptions& hex,
+                                 const SwapOptions& options = {});
 
 }  // namespace hexfem

@@ -88,11 +88,11 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
   // tets are all free is placed without a fill test. The band below follows as in
   // place_hexes_greedily (any bands place the same hexes); so the same meshes, one search less.
   const SwapOptions so;
-  const auto floor = static_cast<float>(so.min_quality);
-  std::vector<Candidate> pool = fillable_hex_list(s.topo, ho, QualityBand{floor});
+  std::vector<Candidate> pool = swap_pool(s.topo, ho, so);
   place_greedily(s, pool, index);
-  const SortedRuns<HexCorners> below = enumerate_hexes(
-      s.topo, ho, QualityBand{-std::numeric_limits<float>::infinity(), floor}, &s.used);
+  const QualityBand rest{-std::numeric_limits<float>::infinity(),
+                         static_cast<float>(so.min_quality)};
+  const SortedRuns<HexCorners> below = enumerate_hexes(s.topo, ho, rest, &s.used);
   place_greedily(s, below, index);
   r.hex_candidates = pool.size() + below.size();
   r.stages.push_back(timer.lap("hexes"));

@@ -53,11 +53,7 @@ Placed place(const Lattice& L, bool swap, const SwapOptions& options = {}) {
   ConformityIndex index;
   Placed P;
   P.greedy = place_greedily(state, cands, index);
-  if (swap)
-    P.report = improve_by_swaps(
-        state,
-        fillable_hex_list(topo, HexOptions{}, QualityBand{static_cast<float>(options.min_quality)}),
-        options);
+  if (swap) P.report = improve_by_swaps(state, swap_pool(topo, HexOptions{}, options), options);
   EXPECT_NO_THROW(state.verify());
   ConformityIndex fresh;
   std::vector<char> seen(state.used.size(), 0);
