@@ -1,6 +1,9 @@
 #include "mesher/tetrahedralize.hpp"
 
 #include <fcntl.h>
+#include <malloc.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <tetgen.h>
 #include <unistd.h>
@@ -82,11 +85,33 @@ std::vector<int> crossing_faces(const SurfaceMesh& surface, const SolidLocator& 
   return faces;
 }
 
-// TetGen's output, copied out of the child process.
+// A read-only view of the child's output in shared memory, unmapped when it goes.
+struct SharedOutput {
+  void* base = MAP_FAILED;
+  std::size_t bytes = 0;
+  SharedOutput() = default;
+  SharedOutput(const SharedOutput&) = delete;
+  SharedOutput& operator=(const SharedOutput&) = delete;
+  ~SharedOutput() {
+    if (base != MAP_FAILED) ::munmap(base, bytes);
+  }
+};
+
+// An array of n values in the shared output.
+template <class T>
+struct View {
+  const T* data = nullptr;
+  std::size_t n = 0;
+  std::size_t size() const { return n; }
+  const T& operator[](std::size_t i) const { return data[i]; }
+};
+
+// TetGen's output, read in place from the child's shared memory.
 struct TetgenResult {
   std::string error;  // empty on success
-  std::vector<double> points;
-  std::vector<int> tets, neighbors, trifaces;
+  SharedOutput shared;
+  View<double> points;
+  View<int> tets, neighbors, trifaces;
   double seconds = 0;  // TetGen's steps in the child
   pid_t child = -1;    // on success: the child, still to be reaped (ChildReaper)
 };
@@ -137,8 +162,10 @@ bool read_all(int fd, void* data, std::size_t n) {
 // destroyed. On an error TetGen's terminatetetgen() frees its memory and throws; a destructor run
 // by the unwinding would free it again, and glibc then aborts, or deadlocks on its own heap lock
 // (seen on 40mm_capot: the parent waited for the child's message for ever).
-void run_tetgen_stages(tetgenbehavior& b, tetgenio& in, tetgenio& out, bool recover_delaunay) {
-  tetgenmesh& m = *new tetgenmesh;  // NOLINT: freed by the child's exit, see above
+// Returns the mesh, which the caller may delete once no error was thrown.
+tetgenmesh* run_tetgen_stages(tetgenbehavior& b, tetgenio& in, tetgenio& out,
+                              bool recover_delaunay) {
+  tetgenmesh& m = *new tetgenmesh;  // NOLINT: on an error freed by the child's exit, see above
   m.b = &b;
   m.in = &in;
   m.addin = nullptr;
@@ -160,21 +187,34 @@ void run_tetgen_stages(tetgenbehavior& b, tetgenio& in, tetgenio& out, bool reco
   if (m.tetrahedrons->items > 0l) m.outelements(&out);
   if (m.subfaces->items > 0l) m.outsubfaces(&out);
   m.outneighbors(&out);
+  return &m;
 }
 
-// The child's message: the four array sizes, the arrays, TetGen's seconds, then this mark (a child
-// that died while writing leaves it out).
+// The child's message through the pipe: the four array sizes, TetGen's seconds, then this mark (a
+// child that died before leaves it out); the arrays are in the shared memory by then.
 constexpr std::uint64_t kEndMark = 0x74657467656e4f4bull;
 static_assert(std::is_same_v<REAL, double>, "TetGen built with REAL = double");
+
+// Closes a file descriptor when it goes.
+struct FdCloser {
+  int fd = -1;
+  ~FdCloser() {
+    if (fd >= 0) ::close(fd);
+  }
+};
 
 // Runs TetGen in a forked child. Debian's libtet 1.5.0 frees its memory twice when it reports an
 // error (terminatetetgen() frees, then the unwinding destructor frees again) and segfaults, so
 // an error inside TetGen cannot be caught in-process: the child keeps its mesh to its exit
 // (run_tetgen_stages), and a crash of the child still becomes an Error here.
-// The output comes back through a pipe straight into the result's arrays; after a complete
-// message the child is reaped later (its exit, releasing TetGen's memory, overlaps our work).
-TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recover_delaunay) {
-  TetgenResult r;
+// The output comes back in shared memory, read where it lies; after a complete message the child
+// is reaped later (its exit overlaps our work).
+void run_tetgen_isolated(tetgenio& in, const char* switches, bool recover_delaunay,
+                         TetgenResult& r) {
+  // The arrays come back through shared memory (a pipe moved them at 150 MB/s here: 1.5 s at a
+  // million vertices), their sizes and an end mark through the pipe.
+  const FdCloser shm{::memfd_create("hexfem-tetgen", MFD_CLOEXEC)};
+  if (shm.fd < 0) throw Error("TetGen: cannot create shared memory for its output");
   int fd[2];
   if (::pipe(fd) != 0) throw Error("TetGen: cannot create a pipe");
   ::fcntl(fd[1], F_SETPIPE_SZ, 1 << 20);  // fewer round trips; the default size works too
@@ -198,19 +238,41 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recove
       std::vector<char> sw(switches, switches + std::strlen(switches) + 1);
       if (!b.parse_commandline(sw.data())) ::_exit(90);
       const auto t0 = std::chrono::steady_clock::now();
-      run_tetgen_stages(b, in, out, recover_delaunay);
+      tetgenmesh* mesh = run_tetgen_stages(b, in, out, recover_delaunay);
       seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      // Done without an error: the mesh and its memory go before the output is copied into
+      // shared memory (the child's peak would otherwise grow by that copy).
+      delete mesh;
+      ::malloc_trim(0);
     } catch (int c) {
       code = c;
     }
     if (code != 0) ::_exit(100 + code);
     const std::uint64_t sizes[4] = {3ull * out.numberofpoints, 4ull * out.numberoftetrahedra,
                                     4ull * out.numberoftetrahedra, 3ull * out.numberoftrifaces};
+    const std::size_t bytes[4] = {sizes[0] * sizeof(REAL), sizes[1] * sizeof(int),
+                                  sizes[2] * sizeof(int), sizes[3] * sizeof(int)};
+    const void* from[4] = {out.pointlist, out.tetrahedronlist, out.neighborlist, out.trifacelist};
+    // Each array is freed once copied, so that the child's peak memory grows by one array at
+    // most (the child ends with _exit: tetgenio's destructor never runs).
+    auto release = [&](int a) {
+      if (a == 0) delete[] out.pointlist;
+      if (a == 1) delete[] out.tetrahedronlist;
+      if (a == 2) delete[] out.neighborlist;
+      if (a == 3) delete[] out.trifacelist;
+    };
+    const std::size_t total = bytes[0] + bytes[1] + bytes[2] + bytes[3];
+    if (::ftruncate(shm.fd, static_cast<off_t>(total)) != 0) ::_exit(92);
+    void* to = ::mmap(nullptr, total, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_POPULATE, shm.fd, 0);
+    if (to == MAP_FAILED) ::_exit(92);
+    char* at = static_cast<char*>(to);
+    for (int a = 0; a < 4; ++a) {
+      if (bytes[a] > 0) std::memcpy(at, from[a], bytes[a]);
+      release(a);
+      at += bytes[a];
+    }
+    ::munmap(to, total);
     const bool ok = write_all(fd[1], sizes, sizeof sizes) &&
-                    write_all(fd[1], out.pointlist, sizes[0] * sizeof(REAL)) &&
-                    write_all(fd[1], out.tetrahedronlist, sizes[1] * sizeof(int)) &&
-                    write_all(fd[1], out.neighborlist, sizes[2] * sizeof(int)) &&
-                    write_all(fd[1], out.trifacelist, sizes[3] * sizeof(int)) &&
                     write_all(fd[1], &seconds, sizeof seconds) &&
                     write_all(fd[1], &kEndMark, sizeof kEndMark);
     ::close(fd[1]);
@@ -221,22 +283,31 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recove
   bool complete = read_all(fd[0], sizes, sizeof sizes);
   // Sizes from a healthy child fit in memory; anything else is a broken message.
   for (const std::uint64_t n : sizes) complete = complete && n < (std::uint64_t{1} << 40);
-  if (complete) {
-    r.points.resize(sizes[0]);
-    r.tets.resize(sizes[1]);
-    r.neighbors.resize(sizes[2]);
-    r.trifaces.resize(sizes[3]);
-    complete = read_all(fd[0], r.points.data(), sizes[0] * sizeof(double)) &&
-               read_all(fd[0], r.tets.data(), sizes[1] * sizeof(int)) &&
-               read_all(fd[0], r.neighbors.data(), sizes[2] * sizeof(int)) &&
-               read_all(fd[0], r.trifaces.data(), sizes[3] * sizeof(int)) &&
-               read_all(fd[0], &r.seconds, sizeof r.seconds) &&
-               read_all(fd[0], &mark, sizeof mark) && mark == kEndMark;
-  }
+  complete = complete && read_all(fd[0], &r.seconds, sizeof r.seconds) &&
+             read_all(fd[0], &mark, sizeof mark) && mark == kEndMark;
   ::close(fd[0]);
   if (complete) {
+    const std::size_t total =
+        sizes[0] * sizeof(double) + (sizes[1] + sizes[2] + sizes[3]) * sizeof(int);
+    struct stat st {};
+    complete = ::fstat(shm.fd, &st) == 0 && static_cast<std::uint64_t>(st.st_size) == total;
+    if (complete && total > 0) {
+      r.shared.base = ::mmap(nullptr, total, PROT_READ, MAP_SHARED | MAP_POPULATE, shm.fd, 0);
+      r.shared.bytes = total;
+      complete = r.shared.base != MAP_FAILED;
+    }
+  }
+  if (complete) {
+    const char* at = static_cast<const char*>(r.shared.base);
+    r.points = {reinterpret_cast<const double*>(at), sizes[0]};
+    at += sizes[0] * sizeof(double);
+    r.tets = {reinterpret_cast<const int*>(at), sizes[1]};
+    at += sizes[1] * sizeof(int);
+    r.neighbors = {reinterpret_cast<const int*>(at), sizes[2]};
+    at += sizes[2] * sizeof(int);
+    r.trifaces = {reinterpret_cast<const int*>(at), sizes[3]};
     r.child = pid;
-    return r;
+    return;
   }
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
@@ -252,7 +323,6 @@ TetgenResult run_tetgen_isolated(tetgenio& in, const char* switches, bool recove
   } else {
     r.error = "its output was truncated";
   }
-  return r;
 }
 
 }  // namespace
@@ -286,7 +356,8 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
   }
   // p: PLC; Y: keep the boundary mesh; n: neighbours; z: 0-based; Q: quiet; O0: no flips or
   // smoothing after the Delaunay construction (they would break the lattice's cubes).
-  const TetgenResult out = run_tetgen_isolated(in, "pYnzQO0", recover_delaunay);
+  TetgenResult out;
+  run_tetgen_isolated(in, "pYnzQO0", recover_delaunay, out);
   const ChildReaper reaper{out.child};
   if (!out.error.empty()) {
     const std::string why = intersection_message(surface, locator);
@@ -371,12 +442,11 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
       for (int i = 0; i < 4; ++i) {
         const int nb = out.neighbors[4 * t + i];
         if (nb < 0 || region[nb] >= 0) continue;
-        // The face shared with the neighbour: the three vertices both tets have.
-        std::int32_t fv[4], n = 0;
+        // The face shared with the neighbour: TetGen's neighbour i is across the face opposite
+        // corner i (its own vertex order, before the orientation above).
+        std::int32_t fv[3], n = 0;
         for (int a = 0; a < 4; ++a)
-          for (int b = 0; b < 4; ++b)
-            if (tets[t][a] == tets[nb][b]) fv[n++] = tets[t][a];
-        if (n != 3) continue;
+          if (a != i) fv[n++] = out.tets[4 * t + a];
         // Surface triangles (the output's boundary, equal to the input's) join surface nodes only.
         const auto s_nodes = static_cast<std::int32_t>(ns);
         if (fv[0] < s_nodes && fv[1] < s_nodes && fv[2] < s_nodes &&
