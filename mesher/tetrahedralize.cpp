@@ -263,15 +263,18 @@ void run_tetgen_isolated(tetgenio& in, const char* switches, bool recover_delaun
     };
     const std::size_t total = bytes[0] + bytes[1] + bytes[2] + bytes[3];
     if (::ftruncate(shm.fd, static_cast<off_t>(total)) != 0) ::_exit(92);
-    void* to = ::mmap(nullptr, total, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_POPULATE, shm.fd, 0);
-    if (to == MAP_FAILED) ::_exit(92);
-    char* at = static_cast<char*>(to);
-    for (int a = 0; a < 4; ++a) {
-      if (bytes[a] > 0) std::memcpy(at, from[a], bytes[a]);
-      release(a);
-      at += bytes[a];
+    if (total > 0) {  // mmap refuses a length of 0
+      void* to =
+          ::mmap(nullptr, total, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_POPULATE, shm.fd, 0);
+      if (to == MAP_FAILED) ::_exit(92);
+      char* at = static_cast<char*>(to);
+      for (int a = 0; a < 4; ++a) {
+        if (bytes[a] > 0) std::memcpy(at, from[a], bytes[a]);
+        release(a);
+        at += bytes[a];
+      }
+      ::munmap(to, total);
     }
-    ::munmap(to, total);
     const bool ok = write_all(fd[1], sizes, sizeof sizes) &&
                     write_all(fd[1], &seconds, sizeof seconds) &&
                     write_all(fd[1], &kEndMark, sizeof kEndMark);
