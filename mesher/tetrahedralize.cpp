@@ -467,6 +467,15 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
       for (int a = 0; a < 3; ++a) c[a] += 0.25 * mesh.nodes[tets[region_largest[r]][i]][a];
     region_solid[r] = locator.locate(c);
   }
+  if (ntet > 0 &&
+      std::none_of(region_solid.begin(), region_solid.end(), [](int s) { return s == 0; })) {
+    // Every region inside (the usual case): the tets as they are, no copy.
+    mesh.tet_solid.resize(ntet);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t t = 0; t < ntet_signed; ++t) mesh.tet_solid[t] = region_solid[region[t]];
+    mesh.tets = std::move(tets);
+    return mesh;
+  }
   mesh.tets.reserve(ntet);
   mesh.tet_solid.reserve(ntet);
   for (std::size_t t = 0; t < ntet; ++t) {
