@@ -124,14 +124,19 @@ void hexes_from(const TetTopology& topo, std::int32_t v, double qmin, FillScratc
   }
 }
 
+// The least scaled Jacobian a corner of a hex in the band can have. Every corner of a hex of
+// quality q has at least q (the hex's is their minimum): a band's lower end prunes the search.
+// Corners are computed with other rounding than the quality, hence the small allowance; the
+// band itself is kept exactly.
+double corner_floor(const HexOptions& options, const QualityBand& band) {
+  return std::max(options.min_quality, static_cast<double>(band.from) - 1e-6);
+}
+
 }  // namespace
 
 SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions& options,
                                        const QualityBand& band, const std::vector<char>* used) {
-  // Every corner of a hex of quality q has a scaled Jacobian of at least q (the hex's is their
-  // minimum): a band's lower end prunes the search. Corners are computed with other rounding
-  // than the quality, hence the small allowance; the band itself is kept exactly.
-  const double corner_min = std::max(options.min_quality, static_cast<double>(band.from) - 1e-6);
+  const double corner_min = corner_floor(options, band);
   return find_sorted_runs<HexCorners>(
       static_cast<std::int32_t>(topo.num_vertices()),
       [&](std::int32_t v, FillScratch& scratch, std::vector<HexCorners>& out) {
@@ -150,7 +155,7 @@ std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOpti
 
 std::vector<Candidate> fillable_hex_list(const TetTopology& topo, const HexOptions& options,
                                          const QualityBand& band) {
-  const double corner_min = std::max(options.min_quality, static_cast<double>(band.from) - 1e-6);
+  const double corner_min = corner_floor(options, band);
   return collect_candidates(static_cast<std::int32_t>(topo.num_vertices()),
                             [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
                               thread_local std::vector<HexCorners> found;

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -195,6 +196,15 @@ tetgenmesh* run_tetgen_stages(tetgenbehavior& b, tetgenio& in, tetgenio& out,
 constexpr std::uint64_t kEndMark = 0x74657467656e4f4bull;
 static_assert(std::is_same_v<REAL, double>, "TetGen built with REAL = double");
 
+// Where the four arrays lie in the shared memory, one after the other (points as REAL, then tets,
+// neighbours and boundary faces as int), from their value counts: the offsets, then the total.
+std::array<std::size_t, 5> output_layout(const std::uint64_t sizes[4]) {
+  std::array<std::size_t, 5> at{};
+  at[1] = sizes[0] * sizeof(REAL);
+  for (int a = 1; a < 4; ++a) at[a + 1] = at[a] + sizes[a] * sizeof(int);
+  return at;
+}
+
 // Closes a file descriptor when it goes.
 struct FdCloser {
   int fd = -1;
@@ -250,30 +260,25 @@ void run_tetgen_isolated(tetgenio& in, const char* switches, bool recover_delaun
     if (code != 0) ::_exit(100 + code);
     const std::uint64_t sizes[4] = {3ull * out.numberofpoints, 4ull * out.numberoftetrahedra,
                                     4ull * out.numberoftetrahedra, 3ull * out.numberoftrifaces};
-    const std::size_t bytes[4] = {sizes[0] * sizeof(REAL), sizes[1] * sizeof(int),
-                                  sizes[2] * sizeof(int), sizes[3] * sizeof(int)};
-    const void* from[4] = {out.pointlist, out.tetrahedronlist, out.neighborlist, out.trifacelist};
-    // Each array is freed once copied, so that the child's peak memory grows by one array at
-    // most (the child ends with _exit: tetgenio's destructor never runs).
-    auto release = [&](int a) {
-      if (a == 0) delete[] out.pointlist;
-      if (a == 1) delete[] out.tetrahedronlist;
-      if (a == 2) delete[] out.neighborlist;
-      if (a == 3) delete[] out.trifacelist;
-    };
-    const std::size_t total = bytes[0] + bytes[1] + bytes[2] + bytes[3];
-    if (::ftruncate(shm.fd, static_cast<off_t>(total)) != 0) ::_exit(92);
-    if (total > 0) {  // mmap refuses a length of 0
+    const std::array<std::size_t, 5> at = output_layout(sizes);
+    if (::ftruncate(shm.fd, static_cast<off_t>(at[4])) != 0) ::_exit(92);
+    if (at[4] > 0) {  // mmap refuses a length of 0
       void* to =
-          ::mmap(nullptr, total, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_POPULATE, shm.fd, 0);
+          ::mmap(nullptr, at[4], PROT_READ | PROT_WRITE, MAP_SHARED | MAP_POPULATE, shm.fd, 0);
       if (to == MAP_FAILED) ::_exit(92);
-      char* at = static_cast<char*>(to);
-      for (int a = 0; a < 4; ++a) {
-        if (bytes[a] > 0) std::memcpy(at, from[a], bytes[a]);
-        release(a);
-        at += bytes[a];
-      }
-      ::munmap(to, total);
+      // Each array is freed once copied, so that the child's peak memory grows by one array at
+      // most (the child ends with _exit: tetgenio's destructor never runs).
+      auto put = [&](auto*& array, int a) {
+        if (at[a + 1] > at[a])
+          std::memcpy(static_cast<char*>(to) + at[a], array, at[a + 1] - at[a]);
+        delete[] array;
+        array = nullptr;
+      };
+      put(out.pointlist, 0);
+      put(out.tetrahedronlist, 1);
+      put(out.neighborlist, 2);
+      put(out.trifacelist, 3);
+      ::munmap(to, at[4]);
     }
     const bool ok = write_all(fd[1], sizes, sizeof sizes) &&
                     write_all(fd[1], &seconds, sizeof seconds) &&
@@ -289,26 +294,22 @@ void run_tetgen_isolated(tetgenio& in, const char* switches, bool recover_delaun
   complete = complete && read_all(fd[0], &r.seconds, sizeof r.seconds) &&
              read_all(fd[0], &mark, sizeof mark) && mark == kEndMark;
   ::close(fd[0]);
+  const std::array<std::size_t, 5> at = output_layout(sizes);
   if (complete) {
-    const std::size_t total =
-        sizes[0] * sizeof(double) + (sizes[1] + sizes[2] + sizes[3]) * sizeof(int);
     struct stat st {};
-    complete = ::fstat(shm.fd, &st) == 0 && static_cast<std::uint64_t>(st.st_size) == total;
-    if (complete && total > 0) {
-      r.shared.base = ::mmap(nullptr, total, PROT_READ, MAP_SHARED | MAP_POPULATE, shm.fd, 0);
-      r.shared.bytes = total;
+    complete = ::fstat(shm.fd, &st) == 0 && static_cast<std::uint64_t>(st.st_size) == at[4];
+    if (complete && at[4] > 0) {
+      r.shared.base = ::mmap(nullptr, at[4], PROT_READ, MAP_SHARED | MAP_POPULATE, shm.fd, 0);
+      r.shared.bytes = at[4];
       complete = r.shared.base != MAP_FAILED;
     }
   }
   if (complete) {
-    const char* at = static_cast<const char*>(r.shared.base);
-    r.points = {reinterpret_cast<const double*>(at), sizes[0]};
-    at += sizes[0] * sizeof(double);
-    r.tets = {reinterpret_cast<const int*>(at), sizes[1]};
-    at += sizes[1] * sizeof(int);
-    r.neighbors = {reinterpret_cast<const int*>(at), sizes[2]};
-    at += sizes[2] * sizeof(int);
-    r.trifaces = {reinterpret_cast<const int*>(at), sizes[3]};
+    const char* base = static_cast<const char*>(r.shared.base);
+    r.points = {reinterpret_cast<const double*>(base + at[0]), sizes[0]};
+    r.tets = {reinterpret_cast<const int*>(base + at[1]), sizes[1]};
+    r.neighbors = {reinterpret_cast<const int*>(base + at[2]), sizes[2]};
+    r.trifaces = {reinterpret_cast<const int*>(base + at[3]), sizes[3]};
     r.child = pid;
     return;
   }
