@@ -191,6 +191,9 @@ RegisterCommand reg{
        sub.add_flag("--smooth-frame", a->volume.smooth_frame,
                     "interior points take the frame of a smooth field, the surface frames "
                     "extended harmonically over a grid (study)");
+       sub.add_flag("--no-coherent-first{false}", a->volume.coherent_first,
+                    "every surface node's front starts at once (paper) instead of the fronts of "
+                    "walls whose frames do not turn first (study)");
        sub.add_option("--relax-points", a->volume.relax_points,
                       "Jacobi sweeps moving each interior point towards its lattice neighbours "
                       "after the frontal insertion (default 30; 0 = off)")

@@ -118,6 +118,8 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
       throw Error("--curvature is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.relax_points != -1)
       throw Error("--relax-points is for CAD input; '" + a.mesh + "' is already a mesh");
+    if (a.modal.coherent_first)
+      throw Error("--coherent-first is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.align_opposite != -1)
       throw Error("--align-opposite is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.modal.no_edge_spacing_size)

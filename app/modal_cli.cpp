@@ -52,6 +52,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
          "CAD input: sweeps moving each interior point towards its lattice neighbours "
          "(default 0 here, 30 on `mesh`: the relaxed points cost order-2 accuracy on curved parts)")
       ->check(CLI::Range(0, 1000));
+  sub.add_flag("--coherent-first", o.coherent_first,
+               "CAD input: the fronts of box-like planar walls start first (default off here, "
+               "on for `mesh`: it cost order-2 accuracy on the steel part)");
   sub.add_option("--align-opposite", o.align_opposite,
                  "CAD input: pack the two faces of a wall up to T sizes thick from the same points "
                  "(default 2, 0 = off; as on `mesh`)")
@@ -144,6 +147,7 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const GradedEdg
   m.volume.conformal = o.conformal;
   // Not the mesher's default: see modal_cli.hpp.
   m.volume.relax_points = std::max(0, o.relax_points);
+  m.volume.coherent_first = o.coherent_first;
   if (o.align_opposite >= 0) m.surface.align_opposite = o.align_opposite;  // else the default
   m.volume.no_pyramids = o.no_pyramids;
   if (o.no_edge_spacing_size) m.surface.sizes_from_edge_spacing = false;

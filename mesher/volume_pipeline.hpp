@@ -38,6 +38,8 @@ struct VolumeOptions {
   double jitter = 0;            // interior points moved by up to jitter*h (volume_points.hpp)
   bool inherit_frame = true;    // points take their front's frame (volume_points.hpp)
   bool smooth_frame = false;    // --smooth-frame: the smooth field's frame (frame_field_smooth.hpp)
+  // Coherent fronts first (volume_points.hpp); --no-coherent-first: every front at once (paper).
+  bool coherent_first = true;
   // --relax-points N: lattice relaxation sweeps (volume_points.hpp); 30 by default since session
   // 29 (volume.md, "Relaxation and edge spacing by default"), 0 = off.
   int relax_points = 30;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -302,6 +303,61 @@ std::vector<Vec3> ghost_points(const SurfaceMesh& surface, const SolidLocator& l
   return ghosts;
 }
 
+// Two surface frames closer than this (up to the cube's symmetries) count as the same.
+constexpr double kSameFrame = std::numbers::pi / 180;  // 1 degree
+// A frame's walls lead only when they hold this share of the surface nodes.
+constexpr double kLeadingShare = 0.1;
+// Frames compared at most (a part of many differently turned planar walls): the rest do not lead.
+constexpr std::size_t kMaxFrames = 256;
+
+// The axis of f closest to the direction n.
+int axis_along(const Frame& f, const Vec3& n) {
+  int best = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(v3::dot(f[i], n)) > std::abs(v3::dot(f[best], n))) best = i;
+  return best;
+}
+
+// The surface nodes whose fronts lead (VolumePointsOptions::coherent_first):
+//  - the frame field does not turn there: every node sharing a triangle with one has its frame
+//    within kSameFrame. That is a planar wall away from holes, not a curved face (its normal
+//    turns) nor a planar face near a hole (its cross field turns there);
+//  - and that frame is shared by walls facing each of its three axes, holding kLeadingShare of
+//    the surface nodes: box-like walls that one lattice fits, not the two sides of a plate or a
+//    few flats on a curved part (their lattice would flood what curved walls bound).
+std::vector<char> leading_nodes(const MixedMesh& m, const std::vector<Frame>& frame) {
+  const std::size_t n = m.nodes.size();
+  std::vector<char> lead(n, 1);
+  for (std::size_t t = 0; t < m.num_bfaces(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      const std::int32_t a = m.bface_nodes[4 * t + i], b = m.bface_nodes[4 * t + (i + 1) % 3];
+      if (frame_angle(frame[a], frame[b]) > kSameFrame) lead[a] = lead[b] = 0;
+    }
+  // The frames of those nodes, each with the axes its walls face and its number of nodes.
+  std::vector<Frame> frames;
+  std::vector<unsigned> axes;
+  std::vector<std::size_t> members;
+  std::vector<std::int32_t> which(n, -1);
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!lead[v]) continue;
+    std::size_t c = 0;
+    while (c < frames.size() && frame_angle(frames[c], frame[v]) > kSameFrame) ++c;
+    if (c == frames.size()) {
+      if (frames.size() == kMaxFrames) continue;
+      frames.push_back(frame[v]);
+      axes.push_back(0);
+      members.push_back(0);
+    }
+    which[v] = static_cast<std::int32_t>(c);
+    axes[c] |= 1u << axis_along(frames[c], frame[v][2]);  // frame[v][2]: the normal
+    ++members[c];
+  }
+  for (std::size_t v = 0; v < n; ++v)
+    lead[v] = which[v] >= 0 && axes[which[v]] == 7u &&
+              static_cast<double>(members[which[v]]) >= kLeadingShare * static_cast<double>(n);
+  return lead;
+}
+
 struct Candidate {
   Vec3 pos;
   std::int32_t parent;
@@ -311,9 +367,10 @@ struct Candidate {
 };
 
 // smooth: when given, every point's frame is the smooth field's at its position.
+// coherent_first: VolumePointsOptions::coherent_first.
 VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
                      const SolidLocator& locator, double k, bool inherit_frame,
-                     const SmoothFrameField* smooth, int relax_iterations,
+                     const SmoothFrameField* smooth, bool coherent_first, int relax_iterations,
                      const LpCvtOptions& lpcvt) {
   const std::size_t ns = surface.mesh.nodes.size();
   Cloud cloud(surface.mesh.nodes);
@@ -327,8 +384,13 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
   }
   // The nearest surface vertex is needed only for the paper's frame rule or for the size.
   const bool need_nearest_frame = !inherit_frame && !smooth;
-  std::vector<std::int32_t> queue(ns);
-  for (std::size_t v = 0; v < ns; ++v) queue[v] = static_cast<std::int32_t>(v);
+  // The FIFO starts from the leading surface nodes alone when asked, and takes the others when
+  // it runs empty.
+  std::vector<std::int32_t> queue, later;
+  const std::vector<char> first =
+      coherent_first ? leading_nodes(surface.mesh, frame) : std::vector<char>(ns, 1);
+  for (std::size_t v = 0; v < ns; ++v)
+    (first[v] ? queue : later).push_back(static_cast<std::int32_t>(v));
   // A surface node that no triangle uses would grow points outside: skip it.
   std::vector<char> used(ns, 0);
   for (std::int32_t id : surface.mesh.bface_nodes)
@@ -339,7 +401,11 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
   // Batches of the FIFO: the candidates of a batch are tested in parallel against the cloud as
   // it was (tests that only reject more as the cloud grows), then accepted in FIFO order with a
   // final exclusion test. This gives exactly the sequential FIFO result.
-  while (head < queue.size()) {
+  while (head < queue.size() || !later.empty()) {
+    if (head == queue.size()) {
+      queue.insert(queue.end(), later.begin(), later.end());
+      later.clear();
+    }
     const std::size_t end = std::min(queue.size(), head + 4096);
     cands.clear();
     for (std::size_t q = head; q < end; ++q) {
@@ -497,8 +563,9 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   if (options.smooth_frame)
     smooth = std::make_unique<SmoothFrameField>(surface, field, locator, options.smooth);
   if (!options.random) {
-    VolumePoints out = frontal(surface, field, locator, options.k, options.inherit_frame,
-                               smooth.get(), options.relax_iterations, options.lpcvt);
+    VolumePoints out =
+        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(),
+                options.coherent_first, options.relax_iterations, options.lpcvt);
     jitter_points(out, field, options.jitter);
     return out;
   }
@@ -506,9 +573,9 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   std::size_t frontal_count = 0;
   if (target == 0) {
     // Only the count is used: no relaxation.
-    frontal_count =
-        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(), 0, {})
-            .points.size();
+    frontal_count = frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(),
+                            options.coherent_first, 0, {})
+                        .points.size();
     target = frontal_count;
   }
   VolumePoints out = random_points(surface, field, locator, options.k, target, options.seed);
