@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
 #include "tests/cad/cad_test_util.hpp"
 
@@ -21,17 +22,26 @@ nlohmann::json stats_of(const std::string& msh) {
   return j;
 }
 
+// Meshes `model` at h twice, with the walls first (the default) into work/<name>_lead.msh and
+// every front at once into work/<name>_all.msh; returns the two paths.
+std::pair<std::string, std::string> mesh_both_ways(const std::string& model, const std::string& h,
+                                                   const std::string& name) {
+  const std::string lead = cadtest::work(name + "_lead.msh").string();
+  const std::string all = cadtest::work(name + "_all.msh").string();
+  const std::string args = "mesh " + cadtest::data(model) + " --h " + h + " --json -o ";
+  int rc = 0;
+  cadtest::run_cli_json(args + lead, &rc);
+  EXPECT_EQ(rc, 0);
+  cadtest::run_cli_json(args + all + " --no-coherent-first", &rc);
+  EXPECT_EQ(rc, 0);
+  return {lead, all};
+}
+
 // freecad_hole_puzzle_counterbore at its diagonal / 60: a block with counterbored holes. Session
 // 31: H_vol 84.72 % with every front at once, 88.57 % with the walls' fronts first.
 TEST(CoherentFirst, APlateWithHolesGetsMoreOfItsVolumeInHexes) {
-  const std::string model = cadtest::data("freecad_hole_puzzle_counterbore.brep");
-  const std::string lead = cadtest::work("puzzle_lead.msh").string();
-  const std::string all = cadtest::work("puzzle_all.msh").string();
-  int rc = 0;
-  cadtest::run_cli_json("mesh " + model + " --h 0.43271 --json -o " + lead, &rc);
-  ASSERT_EQ(rc, 0);
-  cadtest::run_cli_json("mesh " + model + " --h 0.43271 --no-coherent-first --json -o " + all, &rc);
-  ASSERT_EQ(rc, 0);
+  const auto [lead, all] =
+      mesh_both_ways("freecad_hole_puzzle_counterbore.brep", "0.43271", "puzzle");
   const auto a = stats_of(lead), b = stats_of(all);
   EXPECT_EQ(a["inverted"].get<int>(), 0);
   EXPECT_EQ(b["inverted"].get<int>(), 0);
@@ -41,14 +51,7 @@ TEST(CoherentFirst, APlateWithHolesGetsMoreOfItsVolumeInHexes) {
 
 // A sphere's frames turn everywhere: no node leads, so the FIFO is the paper's.
 TEST(CoherentFirst, ASphereHasNoLeadingWallsAndKeepsItsMesh) {
-  const std::string model = cadtest::data("sphere.stp");
-  const std::string lead = cadtest::work("sphere_lead.msh").string();
-  const std::string all = cadtest::work("sphere_all.msh").string();
-  int rc = 0;
-  cadtest::run_cli_json("mesh " + model + " --h 1.039 --json -o " + lead, &rc);
-  ASSERT_EQ(rc, 0);
-  cadtest::run_cli_json("mesh " + model + " --h 1.039 --no-coherent-first --json -o " + all, &rc);
-  ASSERT_EQ(rc, 0);
+  const auto [lead, all] = mesh_both_ways("sphere.stp", "1.039", "sphere");
   const std::string x = cadtest::file_bytes(lead), y = cadtest::file_bytes(all);
   ASSERT_FALSE(x.empty());
   EXPECT_TRUE(x == y);
