@@ -150,15 +150,7 @@ std::vector<FaceCorner> face_corners(const CadModel& cad, int f) {
 }
 
 std::vector<std::array<int, 2>> crossing_segments(const FaceBoundary& b) {
-  std::vector<std::pair<BBox, int>> boxes;
-  boxes.reserve(b.segments.size());
-  for (std::size_t s = 0; s < b.segments.size(); ++s) {
-    const Vec2& a = b.uv[static_cast<std::size_t>(b.segments[s][0])];
-    const Vec2& c = b.uv[static_cast<std::size_t>(b.segments[s][1])];
-    boxes.emplace_back(BBox(BPoint(std::min(a[0], c[0]), std::min(a[1], c[1])),
-                            BPoint(std::max(a[0], c[0]), std::max(a[1], c[1]))),
-                       static_cast<int>(s));
-  }
+  const std::vector<std::pair<BBox, int>> boxes = rt2::segment_boxes(b.uv, b.segments);
   rt2::BoxTree tree(boxes.begin(), boxes.end());
   auto orient = [](const Vec2& p, const Vec2& q, const Vec2& r) {
     return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);

@@ -65,14 +65,7 @@ FacePoints pack_face(const CadModel& cad, const FaceField& field, const FaceBoun
 
   // Boundary segments: a candidate closer than h/2 to one (3D distance to its chord) is
   // refused, so no point slips between boundary points spaced wider than the local size.
-  std::vector<std::pair<BBox, int>> seg_boxes;
-  for (std::size_t s = 0; s < b.segments.size(); ++s) {
-    const Vec2& p = b.uv[static_cast<std::size_t>(b.segments[s][0])];
-    const Vec2& q = b.uv[static_cast<std::size_t>(b.segments[s][1])];
-    seg_boxes.emplace_back(BBox(BPoint(std::min(p[0], q[0]), std::min(p[1], q[1])),
-                                BPoint(std::max(p[0], q[0]), std::max(p[1], q[1]))),
-                           static_cast<int>(s));
-  }
+  const std::vector<std::pair<BBox, int>> seg_boxes = rt2::segment_boxes(b.uv, b.segments);
   const rt2::BoxTree seg_tree(seg_boxes.begin(), seg_boxes.end());
   std::vector<std::pair<BBox, int>> seg_hits;
   auto near_boundary = [&](const Vec3& x, const BBox& box, double limit) {

@@ -327,11 +327,11 @@ int axis_along(const Frame& f, const Vec3& n) {
 //    few flats on a curved part (their lattice would flood what curved walls bound).
 std::vector<char> leading_nodes(const MixedMesh& m, const std::vector<Frame>& frame) {
   const std::size_t n = m.nodes.size();
-  std::vector<char> lead(n, 1);
+  std::vector<char> steady(n, 1);  // the frame does not turn there
   for (std::size_t t = 0; t < m.num_bfaces(); ++t)
     for (int i = 0; i < 3; ++i) {
       const std::int32_t a = m.bface_nodes[4 * t + i], b = m.bface_nodes[4 * t + (i + 1) % 3];
-      if (frame_angle(frame[a], frame[b]) > kSameFrame) lead[a] = lead[b] = 0;
+      if (frame_angle(frame[a], frame[b]) > kSameFrame) steady[a] = steady[b] = 0;
     }
   // The frames of those nodes, each with the axes its walls face and its number of nodes.
   std::vector<Frame> frames;
@@ -339,7 +339,7 @@ std::vector<char> leading_nodes(const MixedMesh& m, const std::vector<Frame>& fr
   std::vector<std::size_t> members;
   std::vector<std::int32_t> which(n, -1);
   for (std::size_t v = 0; v < n; ++v) {
-    if (!lead[v]) continue;
+    if (!steady[v]) continue;
     std::size_t c = 0;
     while (c < frames.size() && frame_angle(frames[c], frame[v]) > kSameFrame) ++c;
     if (c == frames.size()) {
@@ -352,6 +352,7 @@ std::vector<char> leading_nodes(const MixedMesh& m, const std::vector<Frame>& fr
     axes[c] |= 1u << axis_along(frames[c], frame[v][2]);  // frame[v][2]: the normal
     ++members[c];
   }
+  std::vector<char> lead(n, 0);
   for (std::size_t v = 0; v < n; ++v)
     lead[v] = which[v] >= 0 && axes[which[v]] == 7u &&
               static_cast<double>(members[which[v]]) >= kLeadingShare * static_cast<double>(n);
