@@ -30,7 +30,7 @@ struct MeshArgs {
   int curvature = 0;
   std::vector<std::string> size_at;
   VolumeOptions volume;  // --dim 3 only
-  std::string hex_selection = "greedy";
+  std::string hex_selection = "swap";
   bool binary = false;
   double align_opposite = SurfaceOptions{}.align_opposite;
   bool edge_spacing_size = SurfaceOptions{}.sizes_from_edge_spacing;
@@ -182,8 +182,9 @@ RegisterCommand reg{
                     "splitting its cell");
        sub.add_option("--nc-hex-gain", a->volume.nc_hex_gain,
                       "a hex goes back to tets when that removes at least this many NC faces");
-       sub.add_option("--hex-selection", a->hex_selection,
-                      "greedy (paper: best first) or swap (then 1-for-k swaps of hexes)")
+       sub.add_option(
+              "--hex-selection", a->hex_selection,
+              "swap (default: greedy, then 1-for-k swaps of hexes) or greedy (paper: best first)")
            ->check(CLI::IsMember({"greedy", "swap"}));
        sub.add_flag("--nearest-frame{false}", a->volume.inherit_frame,
                     "interior points take the nearest surface vertex's frame (paper) instead of "

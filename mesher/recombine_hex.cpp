@@ -132,6 +132,46 @@ double corner_floor(const HexOptions& options, const QualityBand& band) {
   return std::max(options.min_quality, static_cast<double>(band.from) - 1e-6);
 }
 
+// The free tets (used[t] == 0) at each vertex, as offsets into one list.
+struct FreeStars {
+  std::vector<std::int32_t> first, tets;
+  FreeStars(const TetTopology& topo, const std::vector<char>& used) {
+    const auto& T = topo.mesh().tets;
+    first.assign(topo.num_vertices() + 1, 0);
+    for (std::size_t t = 0; t < T.size(); ++t)
+      if (!used[t])
+        for (std::int32_t u : T[t]) ++first[u + 1];
+    for (std::size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
+    tets.resize(first.back());
+    std::vector<std::int32_t> at(first.begin(), first.end() - 1);
+    for (std::size_t t = 0; t < T.size(); ++t)
+      if (!used[t])
+        for (std::int32_t u : T[t]) tets[at[u]++] = static_cast<std::int32_t>(t);
+  }
+};
+
+// Whether a free tet has its four vertices among h's corners, not all on one face.
+bool has_free_tet(const TetTopology& topo, const HexCorners& h, const FreeStars& free) {
+  const auto& T = topo.mesh().tets;
+  // Corner masks of the six faces (Gmsh order): a free tet on one face is a flat sliver there.
+  static constexpr unsigned kFace[6] = {0x0f, 0xf0, 0x33, 0x66, 0xcc, 0x99};
+  for (std::int32_t u : h.nodes)
+    for (std::int32_t k = free.first[u]; k < free.first[u + 1]; ++k) {
+      unsigned mask = 0;
+      for (std::int32_t w : T[free.tets[k]]) {
+        const auto at = std::find(h.nodes.begin(), h.nodes.end(), w);
+        if (at == h.nodes.end()) {
+          mask = 0;
+          break;
+        }
+        mask |= 1u << (at - h.nodes.begin());
+      }
+      if (mask && std::find(std::begin(kFace), std::end(kFace), mask) == std::end(kFace))
+        return true;
+    }
+  return false;
+}
+
 }  // namespace
 
 SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions& options,
@@ -169,13 +209,49 @@ std::vector<Candidate> fillable_hex_list(const TetTopology& topo, const HexOptio
                             });
 }
 
+std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const HexOptions& options,
+                                               const SortedRuns<HexCorners>& found,
+                                               const std::vector<char>& used) {
+  const FreeStars free(topo, used);
+  std::vector<HexCorners> near;
+#pragma omp parallel
+  {
+    std::vector<HexCorners> mine;
+    const auto nr = static_cast<std::ptrdiff_t>(found.runs.size());
+#pragma omp for schedule(dynamic, 1) nowait
+    for (std::ptrdiff_t r = 0; r < nr; ++r)
+      for (const HexCorners& h : found.runs[r])
+        if (has_free_tet(topo, h, free)) mine.push_back(h);
+#pragma omp critical
+    near.insert(near.end(), mine.begin(), mine.end());
+  }
+  // Fill tests in vertex order, where the tets around are in cache.
+  std::sort(near.begin(), near.end(),
+            [](const HexCorners& a, const HexCorners& b) { return a.nodes < b.nodes; });
+  std::vector<Candidate> list(near.size());
+  std::vector<char> fills(near.size(), 0);
+  const auto n = static_cast<std::ptrdiff_t>(near.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    list[i] = near[i].candidate();
+    fills[i] = fills_element(topo, list[i], nullptr, options.fill);
+  }
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (fills[i]) list[k++] = list[i];
+  list.resize(k);
+  std::sort(list.begin(), list.end());
+  return list;
+}
+
 std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
-                                 ConformityIndex& index, std::size_t* candidates) {
+                                 ConformityIndex& index, std::size_t* candidates,
+                                 SortedRuns<HexCorners>* kept, float kept_from) {
   // The greedy order in bands of quality, best first: the best band is found and placed first;
   // each later band is then searched only among quads of free tets, since a hex with a used tet
   // can never be placed. Same hexes as one sorted list of every candidate, a fraction of the
   // enumeration on big parts (most candidates overlap hexes of a better band).
-  std::size_t kept = 0;
+  std::size_t placed = 0;
   float below = std::numeric_limits<float>::infinity();
   for (std::size_t b = 0; b <= options.quality_bands.size(); ++b) {
     QualityBand band{-std::numeric_limits<float>::infinity(), below};
@@ -183,10 +259,16 @@ std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
     const SortedRuns<HexCorners> cands =
         enumerate_hexes(s.topo, options, band, b == 0 ? nullptr : &s.used);
     if (candidates) *candidates += cands.size();
-    kept += place_greedily(s, cands, index);
+    placed += place_greedily(s, cands, index);
     below = band.from;
+    if (kept)
+      for (const auto& run : cands.runs) {
+        auto end = std::partition_point(
+            run.begin(), run.end(), [&](const HexCorners& h) { return h.quality >= kept_from; });
+        if (end != run.begin()) kept->runs.emplace_back(run.begin(), end);
+      }
   }
-  return kept;
+  return placed;
 }
 
 }  // namespace hexfem

@@ -51,10 +51,19 @@ std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOpti
 std::vector<Candidate> fillable_hex_list(const TetTopology& topo, const HexOptions& options,
                                          const QualityBand& band = {});
 
+// The hexes of `found` that tets fill, with their tets, best first, keeping only those with a
+// free tet (used[t] == 0) whose four vertices are corners of the hex, not all on one face (a
+// sliver flat on a face is not inside).
+std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const HexOptions& options,
+                                               const SortedRuns<HexCorners>& found,
+                                               const std::vector<char>& used);
+
 // The paper's greedy placement of every candidate hex, best first, into s (place_greedily),
 // band by band; adds the number of candidates enumerated to *candidates. Returns the hexes
 // placed.
+// With `kept`: every band's candidates at or above kept_from, copied there (for the swaps).
 std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
-                                 ConformityIndex& index, std::size_t* candidates = nullptr);
+                                 ConformityIndex& index, std::size_t* candidates = nullptr,
+                                 SortedRuns<HexCorners>* kept = nullptr, float kept_from = 0);
 
 }  // namespace hexfem

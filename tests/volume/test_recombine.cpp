@@ -386,9 +386,11 @@ void check_mesh(const MixedMesh& m, const VolumeReport& r) {
   for (std::size_t c = 0; c < m.num_cells(); ++c) ASSERT_FALSE(cell_is_inverted(m, c)) << c;
   EXPECT_LT(r.volume_rel_gap, 1e-3);
   EXPECT_NEAR(r.stats.volume, r.volume_tets, 1e-3 * r.volume_tets);
-  // Each tet used once: TetGen's tets are those merged into elements, the absorbed slivers
-  // and the tets left.
-  EXPECT_EQ(r.tets_in_elements + r.absorbed_slivers + r.stats.cells_per_kind[0], r.tets);
+  // Each tet used once: TetGen's tets are those merged into elements, the absorbed slivers,
+  // the tets left and those the sliver flips replaced (the tets left include the flips' new
+  // tets).
+  EXPECT_EQ(r.tets_in_elements + r.absorbed_slivers + r.stats.cells_per_kind[0] + r.flipped_tets,
+            r.tets + r.tets_from_flips);
   // NC flags are those of the lead's definition.
   MixedMesh copy = m;
   flag_nonconformal_quads(copy);

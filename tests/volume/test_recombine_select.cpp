@@ -194,7 +194,9 @@ TEST(HexSelection, NamesAndPipelineSwitch) {
   VolumeReport r1, r2, rg;
   const MixedMesh a = mesh_volume(surf, o, &r1);
   const MixedMesh b = mesh_volume(surf, o, &r2);
-  mesh_volume(surf, VolumeOptions{}, &rg);
+  VolumeOptions greedy;
+  greedy.hex_selection = HexSelection::kGreedy;
+  mesh_volume(surf, greedy, &rg);
   EXPECT_EQ(a.cell_nodes, b.cell_nodes);
   EXPECT_EQ(a.cell_kind, b.cell_kind);
   EXPECT_EQ(r1.stats.inverted, 0u);
