@@ -5,7 +5,9 @@
 // passes the same fill test (fills_element) and conformity rules (ConformityIndex, paper Figs
 // 15-18) as in the greedy pass, against every element placed at that time.
 //
-// Takes: the RecombineState after place_greedily and the candidate list it was given.
+// Takes: the RecombineState after place_greedily and a pool of candidates with their tets: in
+// the pipeline those holding a tet the greedy pass left free (hexes_holding_free_tets), since
+// each hex a swap puts in holds one.
 // Gives: the state with the swaps done (more elements, each tet still in one place).
 // Keeps: deterministic for any thread count (fill tests on all threads, swaps in one order).
 #pragma once
@@ -28,12 +30,13 @@ HexSelection parse_hex_selection(const std::string& name);
 
 struct SwapOptions {
   // Passes; each after the first looks only around what the one before changed, and the last
-  // finds none (ANC101 h = 4.5: 15 rounds, most of the gain in the first 3).
+  // finds none (ANC101 h = 4.5: 8 rounds; at 1M vertices the 30 are used).
   int max_rounds = 30;
-  // Candidates below this min scaled Jacobian are not put in: fewer fill tests (ANC101 h = 4.5:
-  // swap stage 1.6 s instead of 3.1 s) and a mean Q that drops less (0.952 vs 0.951), for
-  // H_nbr 68.40 vs 68.60 %.
-  double min_quality = 0.5;
+  // Candidates below this min scaled Jacobian are not put in. 0.3, the hexes' own floor, since
+  // the pool holds only candidates with a free tet (session 32): 0.5 gave ANC101 h = 4.5 H_nbr
+  // 78.66 against 78.84 %, mean Q 0.976 against 0.975, and H_vol / 60 0.30 points less on
+  // average over the shared models; at 1M vertices the swaps take 0.5 s more.
+  double min_quality = 0.3;
   std::size_t max_partners = 24;      // best-first candidates tried per element taken out
   bool pair_swaps = true;             // also 2-for-k (k >= 3) swaps
   std::size_t max_pair_partners = 8;  // per pair: blocked by both, and by each alone
@@ -49,13 +52,15 @@ struct SwapReport {
 bool compatible(const Candidate& a, const Candidate& b);
 
 // The 1-for-k swaps (k >= 2) and the insertion of candidates that became free, in rounds until
-// none is left or max_rounds. `pool`: every candidate at or above options.min_quality that tets
-// fill, placed or not, with its tets, best first (swap_pool). Element order in
-// s.elements: the kept ones as before, then the ones put in.
+// none is left or max_rounds. `pool`: candidates at or above options.min_quality that tets fill,
+// with their tets, best first (all of them, placed or not: swap_pool; the pipeline's:
+// hexes_holding_free_tets). Element order in s.elements: the kept ones as before, then the ones
+// put in.
 SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& pool,
                             const SwapOptions& options = {});
 
-// That pool: fillable_hex_list at or above options.min_quality.
+// Every candidate at or above options.min_quality that tets fill (fillable_hex_list): the
+// widest pool, for studies and tests (at a million vertices eight million fill tests).
 std::vector<Candidate> swap_pool(const TetTopology& topo, const HexOptions& hex,
                                  const SwapOptions& options = {});
 

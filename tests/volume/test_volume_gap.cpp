@@ -91,10 +91,10 @@ nlohmann::json mesh_cylinder(const std::string& max_gap) {
 }
 
 // When the volume-gap stage sends back more than a tenth of the hexes (here forced by a budget
-// of 5e-6; on 1385_Laufrad at h = 8 the default 8e-4 sends back 38,619 of 81,576 and H_vol falls
+// of 1e-6; on 1385_Laufrad at h = 8 the default 8e-4 sends back 38,619 of 81,576 and H_vol falls
 // from 78 to 41 %), the report says how many and which --max-gap keeps them; that budget does.
 TEST(VolumeGap, HexesSentBackForTheGapAreReported) {
-  const nlohmann::json tight = mesh_cylinder("5e-6");
+  const nlohmann::json tight = mesh_cylinder("1e-6");
   ASSERT_TRUE(tight.contains("warnings"));
   const std::size_t undone = tight["undone_for_volume_gap"]["hex8"];
   ASSERT_GT(undone, 0u);
