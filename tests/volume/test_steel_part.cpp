@@ -163,7 +163,7 @@ MeshReport expect_propeller_is_the_part(const MeshOptions& o) {
   return r;
 }
 
-// Propeller at h = diagonal / 30: its thin twisted blades lose 18.0 % of the volume to chords,
+// Propeller at h = diagonal / 30: its thin twisted blades lose 18 % of the volume to chords,
 // still 11.3 % at a curvature bound of 16 (refused by `hexfem mesh` past 10 % before); the bound
 // is doubled while the mesh stays past 5 % and gets closer, here to 32: -2.9 %.
 TEST(Propeller, CurvatureBoundIsDoubledUntilTheMeshIsThePart) {
@@ -172,7 +172,14 @@ TEST(Propeller, CurvatureBoundIsDoubledUntilTheMeshIsThePart) {
   const MeshReport r = expect_propeller_is_the_part(o);
   EXPECT_EQ(r.surface.curvature_used, 32);
   ASSERT_FALSE(r.warnings.empty());
-  EXPECT_NE(r.warnings[0].find("-18.0 %"), std::string::npos) << r.warnings[0];
+  // The first try's figure, as the warning gives it: the chords' loss, give or take what the
+  // elements' bilinear faces add (-18.0 % with the greedy selection, -18.1 % with the swaps).
+  const std::string& w = r.warnings[0];
+  const auto at = w.find(" was ");
+  ASSERT_NE(at, std::string::npos) << w;
+  const double off = std::stod(w.substr(at + 5));
+  EXPECT_LT(off, -17.5) << w;
+  EXPECT_GT(off, -18.5) << w;
 }
 
 // The same part at h = diagonal / 20 with modal's order-2 curvature default (12 per turn, never
