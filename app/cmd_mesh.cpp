@@ -182,10 +182,10 @@ RegisterCommand reg{
                     "splitting its cell");
        sub.add_option("--nc-hex-gain", a->volume.nc_hex_gain,
                       "a hex goes back to tets when that removes at least this many NC faces");
-       sub.add_option(
-              "--hex-selection", a->hex_selection,
-              "swap (default: greedy, then 1-for-k swaps of hexes) or greedy (paper: best first)")
-           ->check(CLI::IsMember({"greedy", "swap"}));
+       sub.add_option("--hex-selection", a->hex_selection,
+                      "swap (default: greedy, then 1-for-k swaps of hexes), swap-wide (swaps among "
+                      "more candidates: more hexes, slower at scale) or greedy (paper: best first)")
+           ->check(CLI::IsMember({"greedy", "swap", "swap-wide"}));
        sub.add_flag("--nearest-frame{false}", a->volume.inherit_frame,
                     "interior points take the nearest surface vertex's frame (paper) instead of "
                     "their front's (study)");

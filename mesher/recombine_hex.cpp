@@ -228,6 +228,11 @@ std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const He
   // Fill tests in vertex order, where the tets around are in cache.
   std::sort(near.begin(), near.end(),
             [](const HexCorners& a, const HexCorners& b) { return a.nodes < b.nodes; });
+  // Two searches may have found the same hex.
+  near.erase(
+      std::unique(near.begin(), near.end(),
+                  [](const HexCorners& a, const HexCorners& b) { return a.nodes == b.nodes; }),
+      near.end());
   std::vector<Candidate> list(near.size());
   std::vector<char> fills(near.size(), 0);
   const auto n = static_cast<std::ptrdiff_t>(near.size());

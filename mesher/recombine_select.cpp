@@ -11,7 +11,8 @@ namespace hexfem {
 HexSelection parse_hex_selection(const std::string& name) {
   if (name == "greedy") return HexSelection::kGreedy;
   if (name == "swap") return HexSelection::kSwap;
-  throw Error("hex selection must be greedy or swap, got '" + name + "'");
+  if (name == "swap-wide") return HexSelection::kSwapWide;
+  throw Error("hex selection must be greedy, swap or swap-wide, got '" + name + "'");
 }
 
 namespace {
@@ -119,6 +120,31 @@ void choose_compatible(const std::vector<Candidate>& pool, const std::vector<std
 }
 
 }  // namespace
+
+std::vector<char> wide_swap_search_mask(const RecombineState& s) {
+  const auto& T = s.topo.mesh().tets;
+  const std::vector<std::int32_t> owner = s.element_of_tets();
+  std::vector<char> open(s.elements.size(), 0);
+  for (std::size_t t = 0; t < T.size(); ++t) {
+    if (s.used[t]) continue;
+    // The tets across t's faces: those around t's first vertex holding a face's other two.
+    for (int f = 0; f < 4; ++f) {
+      const std::int32_t a = T[t][f], b = T[t][(f + 1) % 4], c = T[t][(f + 2) % 4];
+      for (auto it = s.topo.star_begin(a); it != s.topo.star_end(a); ++it) {
+        const auto& n = T[*it];
+        if (owner[*it] >= 0 && std::find(n.begin(), n.end(), b) != n.end() &&
+            std::find(n.begin(), n.end(), c) != n.end())
+          open[owner[*it]] = 1;
+      }
+    }
+  }
+  std::vector<char> mask = s.used;
+  for (std::size_t e = 0; e < s.elements.size(); ++e)
+    if (open[e])
+      for (std::int32_t t : s.elements[e].tets)
+        if (t >= 0) mask[t] = 0;
+  return mask;
+}
 
 std::vector<Candidate> swap_pool(const TetTopology& topo, const HexOptions& hex,
                                  const SwapOptions& o) {

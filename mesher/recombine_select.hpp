@@ -23,9 +23,11 @@
 namespace hexfem {
 
 // How the hexes are chosen among the candidates: the paper's greedy pass alone, or followed by
-// the swaps below.
-enum class HexSelection { kGreedy, kSwap };
-// "greedy" / "swap"; throws hexfem::Error for another name.
+// the swaps below, on the candidates the greedy pass found (kSwap) or on a wider search
+// (kSwapWide: also every candidate around the hexes that touch a free tet by a face; ANC101
+// h = 4.5 H_nbr 80.01 against 78.84 %, but 1M vertices 59-65 s against 46 s; volume.md).
+enum class HexSelection { kGreedy, kSwap, kSwapWide };
+// "greedy" / "swap" / "swap-wide"; throws hexfem::Error for another name.
 HexSelection parse_hex_selection(const std::string& name);
 
 struct SwapOptions {
@@ -58,6 +60,12 @@ bool compatible(const Candidate& a, const Candidate& b);
 // put in.
 SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& pool,
                             const SwapOptions& options = {});
+
+// The tets a wider search for swap candidates may use (0) or not (1), after the greedy pass: the
+// free tets and those of the elements that share a triangle with a free tet. A hex a 1-for-k
+// swap puts in holds free tets and tets of the one element taken out, and inside it a free tet
+// shares a triangle with one of that element's: so that element is among these.
+std::vector<char> wide_swap_search_mask(const RecombineState& s);
 
 // Every candidate at or above options.min_quality that tets fill (fillable_hex_list): the
 // widest pool, for studies and tests (at a million vertices eight million fill tests).

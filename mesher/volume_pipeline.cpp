@@ -79,7 +79,7 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
   ho.min_quality = s.limits.min_quality;
   ho.fill = s.limits.fill;
   r.hex_candidates = 0;
-  if (selection != HexSelection::kSwap) {
+  if (selection == HexSelection::kGreedy) {
     place_hexes_greedily(s, ho, index, &r.hex_candidates);
     r.stages.push_back(timer.lap("hexes"));
     return;
@@ -94,6 +94,16 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
   SortedRuns<HexCorners> found;
   place_hexes_greedily(s, ho, index, &r.hex_candidates, &found, static_cast<float>(so.min_quality));
   r.stages.push_back(timer.lap("hexes"));
+  if (selection == HexSelection::kSwapWide) {
+    // Below the first band (searched in full), the bands again around the hexes next to a free
+    // tet (wide_swap_search_mask).
+    const float first = ho.quality_bands.empty() ? std::numeric_limits<float>::infinity()
+                                                 : ho.quality_bands.front();
+    const std::vector<char> mask = wide_swap_search_mask(s);
+    SortedRuns<HexCorners> more =
+        enumerate_hexes(s.topo, ho, QualityBand{static_cast<float>(so.min_quality), first}, &mask);
+    for (auto& run : more.runs) found.runs.push_back(std::move(run));
+  }
   const std::vector<Candidate> pool = hexes_holding_free_tets(s.topo, ho, found, s.used);
   found = {};
   r.hex_swaps = improve_by_swaps(s, pool, so);

@@ -183,9 +183,54 @@ TEST(HexSelection, SwapsOnAJitteredLatticeKeepEveryRule) {
               g.elements.size(), s.elements.size(), s.report.swaps, s.report.fillable);
 }
 
+TEST(HexSelection, TheWideSearchFindsEveryCandidateOfAOneForKSwap) {
+  // wide_swap_search_mask's claim: a candidate holding a free tet whose other tets are all of one
+  // element is found by the search it restricts. Checked against every candidate (swap_pool) on
+  // the jittered lattice after the greedy pass.
+  std::mt19937 rng(16);
+  std::uniform_real_distribution<double> d(-0.3, 0.3);
+  const Lattice L = lattice_of_tets(5, 5, 4, [&](Vec3 x) {
+    Vec3 y = x;
+    const bool inner =
+        x[0] > 0.5 && x[0] < 4.5 && x[1] > 0.5 && x[1] < 4.5 && x[2] > 0.5 && x[2] < 3.5;
+    if (inner)
+      for (int k = 0; k < 3; ++k) y[k] += d(rng);
+    return y;
+  });
+  const TetTopology topo(L.tets, L.surface);
+  std::vector<Candidate> cands = hex_candidate_list(topo, HexOptions{});
+  RecombineState state(topo, RecombineLimits{});
+  ConformityIndex index;
+  place_greedily(state, cands, index);
+  const std::vector<std::int32_t> owner = state.element_of_tets();
+  const std::vector<char> mask = wide_swap_search_mask(state);
+  std::set<std::array<std::int32_t, 8>> found;
+  const SortedRuns<HexCorners> runs = enumerate_hexes(topo, HexOptions{}, QualityBand{}, &mask);
+  for (const auto& run : runs.runs)
+    for (const HexCorners& h : run) found.insert(h.nodes);
+  std::size_t checked = 0;
+  for (const Candidate& c : swap_pool(topo, HexOptions{})) {
+    bool has_free = false;
+    std::set<std::int32_t> blockers;
+    for (std::int32_t t : c.tets)
+      if (t >= 0) {
+        if (!state.used[t]) has_free = true;
+        if (owner[t] >= 0) blockers.insert(owner[t]);
+      }
+    if (!has_free || blockers.size() != 1) continue;
+    ++checked;
+    EXPECT_TRUE(found.count(c.nodes)) << "a candidate of quality " << c.quality << " missed";
+  }
+  EXPECT_GT(checked, 10u);
+  EXPECT_LT(found.size(), hex_candidate_list(topo, HexOptions{}).size());  // it does restrict
+  std::printf("one-for-k candidates %zu, found by the wide search %zu of %zu candidates\n", checked,
+              found.size(), cands.size());
+}
+
 TEST(HexSelection, NamesAndPipelineSwitch) {
   EXPECT_EQ(parse_hex_selection("greedy"), HexSelection::kGreedy);
   EXPECT_EQ(parse_hex_selection("swap"), HexSelection::kSwap);
+  EXPECT_EQ(parse_hex_selection("swap-wide"), HexSelection::kSwapWide);
   EXPECT_THROW(parse_hex_selection("best"), Error);
   // The cylinder through the whole pipeline with swaps: a valid mesh, deterministic.
   const SurfaceMesh surf = synthetic::cylinder_surface(1.0, 1.0, 0.125);
