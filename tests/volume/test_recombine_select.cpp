@@ -159,10 +159,9 @@ TEST(HexSelection, UnshearedCubesNeedNoSwap) {
   EXPECT_EQ(s.report.inserted, 0u);
 }
 
-TEST(HexSelection, SwapsOnAJitteredLatticeKeepEveryRule) {
-  // Interior nodes of a 5x5x4 lattice moved at random by up to 0.3: many candidates of close
-  // quality, greedy blocks some pairs. Every element left must pass place()'s checks, and
-  // there are at least as many as greedy made.
+// Interior nodes of a 5x5x4 lattice moved at random by up to 0.3: many candidates of close
+// quality, greedy blocks some pairs.
+Lattice jittered_lattice() {
   std::mt19937 rng(16);
   std::uniform_real_distribution<double> d(-0.3, 0.3);
   const Lattice L = lattice_of_tets(5, 5, 4, [&](Vec3 x) {
@@ -173,6 +172,13 @@ TEST(HexSelection, SwapsOnAJitteredLatticeKeepEveryRule) {
       for (int k = 0; k < 3; ++k) y[k] += d(rng);
     return y;
   });
+  return L;
+}
+
+TEST(HexSelection, SwapsOnAJitteredLatticeKeepEveryRule) {
+  // Every element left must pass place()'s checks, and there are at least as many as greedy
+  // made.
+  const Lattice L = jittered_lattice();
   const Placed g = place(L, false);
   const Placed s = place(L, true);
   EXPECT_EQ(s.greedy, g.elements.size());
@@ -187,16 +193,7 @@ TEST(HexSelection, TheWideSearchFindsEveryCandidateOfAOneForKSwap) {
   // wide_swap_search_mask's claim: a candidate holding a free tet whose other tets are all of one
   // element is found by the search it restricts. Checked against every candidate (swap_pool) on
   // the jittered lattice after the greedy pass.
-  std::mt19937 rng(16);
-  std::uniform_real_distribution<double> d(-0.3, 0.3);
-  const Lattice L = lattice_of_tets(5, 5, 4, [&](Vec3 x) {
-    Vec3 y = x;
-    const bool inner =
-        x[0] > 0.5 && x[0] < 4.5 && x[1] > 0.5 && x[1] < 4.5 && x[2] > 0.5 && x[2] < 3.5;
-    if (inner)
-      for (int k = 0; k < 3; ++k) y[k] += d(rng);
-    return y;
-  });
+  const Lattice L = jittered_lattice();
   const TetTopology topo(L.tets, L.surface);
   std::vector<Candidate> cands = hex_candidate_list(topo, HexOptions{});
   RecombineState state(topo, RecombineLimits{});
