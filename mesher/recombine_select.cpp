@@ -127,7 +127,7 @@ std::vector<char> wide_swap_search_mask(const RecombineState& s) {
   std::vector<char> open(s.elements.size(), 0);
   for (std::size_t t = 0; t < T.size(); ++t) {
     if (s.used[t]) continue;
-    // The tets across t's faces: those around t's first vertex holding a face's other two.
+    // The tets across t's faces: those around a face's first vertex holding its other two.
     for (int f = 0; f < 4; ++f) {
       const std::int32_t a = T[t][f], b = T[t][(f + 1) % 4], c = T[t][(f + 2) % 4];
       for (auto it = s.topo.star_begin(a); it != s.topo.star_end(a); ++it) {
