@@ -269,17 +269,6 @@ std::size_t merge_slivers_into_pyramids(RecombineState& state) {
       if (on_sliver[q[0]] + on_sliver[q[1]] + on_sliver[q[2]] + on_sliver[q[3]] >= 3) add_quad(q);
     }
   }
-  // The tet other than `skip` with face (a, b, c), or -1 (none: a surface triangle).
-  auto across = [&](std::int32_t skip, std::int32_t a, std::int32_t b, std::int32_t c) {
-    for (auto it = topo.star_begin(a); it != topo.star_end(a); ++it) {
-      if (*it == skip) continue;
-      const auto& T = m.tets[*it];
-      const bool hb = T[0] == b || T[1] == b || T[2] == b || T[3] == b;
-      const bool hc = T[0] == c || T[1] == c || T[2] == c || T[3] == c;
-      if (hb && hc) return *it;
-    }
-    return -1;
-  };
   std::size_t made = 0;
   for (const std::int32_t t : slivers) {
     if (used[t]) continue;  // taken by a pyramid made for an earlier sliver
@@ -302,7 +291,7 @@ std::size_t merge_slivers_into_pyramids(RecombineState& state) {
         // (an interior quad against cells); half and half would be neither.
         if ((topo.surface_triangle(q0, q1, q3) < 0) != (topo.surface_triangle(q1, q2, q3) < 0))
           continue;
-        const std::int32_t u = across(t, q0, q1, q2), w = across(t, q0, q2, q3);
+        const std::int32_t u = topo.tet_across(t, q0, q1, q2), w = topo.tet_across(t, q0, q2, q3);
         if (u < 0 || w < 0 || u == w || used[u] || used[w]) continue;
         if (m.tet_solid[u] != m.tet_solid[t] || m.tet_solid[w] != m.tet_solid[t]) continue;
         const std::int32_t apex = apex_of(topo, u, q0, q1, q2);

@@ -127,15 +127,10 @@ std::vector<char> wide_swap_search_mask(const RecombineState& s) {
   std::vector<char> open(s.elements.size(), 0);
   for (std::size_t t = 0; t < T.size(); ++t) {
     if (s.used[t]) continue;
-    // The tets across t's faces: those around a face's first vertex holding its other two.
     for (int f = 0; f < 4; ++f) {
-      const std::int32_t a = T[t][f], b = T[t][(f + 1) % 4], c = T[t][(f + 2) % 4];
-      for (auto it = s.topo.star_begin(a); it != s.topo.star_end(a); ++it) {
-        const auto& n = T[*it];
-        if (owner[*it] >= 0 && std::find(n.begin(), n.end(), b) != n.end() &&
-            std::find(n.begin(), n.end(), c) != n.end())
-          open[owner[*it]] = 1;
-      }
+      const std::int32_t n = s.topo.tet_across(static_cast<std::int32_t>(t), T[t][f],
+                                               T[t][(f + 1) % 4], T[t][(f + 2) % 4]);
+      if (n >= 0 && owner[n] >= 0) open[owner[n]] = 1;
     }
   }
   std::vector<char> mask = s.used;

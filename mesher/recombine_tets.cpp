@@ -99,6 +99,18 @@ bool TetTopology::adjacent(std::int32_t a, std::int32_t b) const {
   return std::binary_search(neighbours_begin(a), neighbours_end(a), b);
 }
 
+std::int32_t TetTopology::tet_across(std::int32_t skip, std::int32_t a, std::int32_t b,
+                                     std::int32_t c) const {
+  for (auto it = star_begin(a); it != star_end(a); ++it) {
+    if (*it == skip) continue;
+    const auto& T = mesh_.tets[*it];
+    const bool hb = T[0] == b || T[1] == b || T[2] == b || T[3] == b;
+    const bool hc = T[0] == c || T[1] == c || T[2] == c || T[3] == c;
+    if (hb && hc) return *it;
+  }
+  return -1;
+}
+
 std::int32_t TetTopology::surface_triangle(std::int32_t a, std::int32_t b, std::int32_t c) const {
   // A triangle with an interior vertex is not on the surface: most queries end here, without a
   // hash lookup.

@@ -61,6 +61,8 @@ class TetTopology {
   const UpperTet* upper_begin(std::int32_t v) const { return &upper_[upper_off_[v]]; }
   const UpperTet* upper_end(std::int32_t v) const { return &upper_[upper_off_[v + 1]]; }
   bool adjacent(std::int32_t a, std::int32_t b) const;
+  // The tet other than `skip` with face (a, b, c), or -1 (none: a surface triangle).
+  std::int32_t tet_across(std::int32_t skip, std::int32_t a, std::int32_t b, std::int32_t c) const;
   // Surface triangle index of triangle (a,b,c), -1 when it is not on the surface.
   std::int32_t surface_triangle(std::int32_t a, std::int32_t b, std::int32_t c) const;
   // CAD face of surface triangle t.
