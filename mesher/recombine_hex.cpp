@@ -249,6 +249,28 @@ std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const He
   return list;
 }
 
+std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const HexOptions& options,
+                                               const QualityBand& band,
+                                               const std::vector<char>& search_mask,
+                                               const std::vector<char>& used) {
+  const FreeStars free(topo, used);
+  const double corner_min = corner_floor(options, band);
+  // Most hexes found hold no free tet: tested where each is found, so only the few kept are
+  // stored and sorted.
+  return collect_candidates(static_cast<std::int32_t>(topo.num_vertices()),
+                            [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
+                              thread_local std::vector<HexCorners> found;
+                              found.clear();
+                              hexes_from(topo, v, corner_min, scratch, &search_mask, band.from,
+                                         band.below, found);
+                              for (const HexCorners& h : found) {
+                                if (!has_free_tet(topo, h, free)) continue;
+                                Candidate c = h.candidate();
+                                if (fills_element(topo, c, nullptr, options.fill)) out.push_back(c);
+                              }
+                            });
+}
+
 std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
                                  ConformityIndex& index, std::size_t* candidates,
                                  SortedRuns<HexCorners>* kept, float kept_from) {

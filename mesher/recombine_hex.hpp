@@ -58,6 +58,14 @@ std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const He
                                                const SortedRuns<HexCorners>& found,
                                                const std::vector<char>& used);
 
+// The same for the hexes in the band found around the tets search_mask leaves open
+// (enumerate_hexes with used = search_mask), tested where each is found, while its tets are in
+// cache. Each is found once.
+std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const HexOptions& options,
+                                               const QualityBand& band,
+                                               const std::vector<char>& search_mask,
+                                               const std::vector<char>& used);
+
 // The paper's greedy placement of every candidate hex, best first, into s (place_greedily),
 // band by band; adds the number of candidates enumerated to *candidates. Returns the hexes
 // placed.

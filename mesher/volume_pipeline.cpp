@@ -89,23 +89,29 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
   // only the hex taken out, and k >= 2 hexes have more tets than that one. The bands after the
   // first search only around free tets; searching every band in full for the pool gave ANC101
   // h = 4.5 H_nbr 80.01 against 78.84 %, H_vol / 60 +0.66, but 1M vertices in 84.9 s against
-  // 46 s. swap-wide finds the same pool in 59-65 s (validation/volume.md).
+  // 46 s. swap-wide finds the same pool in 52-53 s (validation/volume.md).
   const SwapOptions so;
   SortedRuns<HexCorners> found;
   place_hexes_greedily(s, ho, index, &r.hex_candidates, &found, static_cast<float>(so.min_quality));
   r.stages.push_back(timer.lap("hexes"));
+  std::vector<Candidate> pool = hexes_holding_free_tets(s.topo, ho, found, s.used);
+  found = {};
   if (selection == HexSelection::kSwapWide) {
     // Below the first band (searched in full), the bands again around the hexes next to a free
-    // tet (wide_swap_search_mask).
-    const float first = ho.quality_bands.empty() ? std::numeric_limits<float>::infinity()
-                                                 : ho.quality_bands.front();
-    const std::vector<char> mask = wide_swap_search_mask(s);
-    SortedRuns<HexCorners> more =
-        enumerate_hexes(s.topo, ho, QualityBand{static_cast<float>(so.min_quality), first}, &mask);
-    for (auto& run : more.runs) found.runs.push_back(std::move(run));
+    // tet (wide_swap_search_mask). The greedy pass's later bands found some of them too.
+    const float first =
+        ho.quality_bands.empty() ? static_cast<float>(so.min_quality) : ho.quality_bands.front();
+    const std::vector<Candidate> more =
+        hexes_holding_free_tets(s.topo, ho, QualityBand{static_cast<float>(so.min_quality), first},
+                                wide_swap_search_mask(s), s.used);
+    const auto mid = static_cast<std::ptrdiff_t>(pool.size());
+    pool.insert(pool.end(), more.begin(), more.end());
+    std::inplace_merge(pool.begin(), pool.begin() + mid, pool.end());
+    pool.erase(
+        std::unique(pool.begin(), pool.end(),
+                    [](const Candidate& a, const Candidate& b) { return a.nodes == b.nodes; }),
+        pool.end());
   }
-  const std::vector<Candidate> pool = hexes_holding_free_tets(s.topo, ho, found, s.used);
-  found = {};
   r.hex_swaps = improve_by_swaps(s, pool, so);
   // The index has no removal: rebuilt from the elements kept and put in.
   index = ConformityIndex{};
