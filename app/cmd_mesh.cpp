@@ -30,7 +30,7 @@ struct MeshArgs {
   int curvature = 0;
   std::vector<std::string> size_at;
   VolumeOptions volume;  // --dim 3 only
-  std::string hex_selection = "swap";
+  std::string hex_selection = "swap-wide";
   bool binary = false;
   double align_opposite = SurfaceOptions{}.align_opposite;
   bool edge_spacing_size = SurfaceOptions{}.sizes_from_edge_spacing;
@@ -183,8 +183,9 @@ RegisterCommand reg{
        sub.add_option("--nc-hex-gain", a->volume.nc_hex_gain,
                       "a hex goes back to tets when that removes at least this many NC faces");
        sub.add_option("--hex-selection", a->hex_selection,
-                      "swap (default: greedy, then 1-for-k swaps of hexes), swap-wide (swaps among "
-                      "more candidates: more hexes, slower at scale) or greedy (paper: best first)")
+                      "swap-wide (default: greedy, then swaps of hexes among the candidates around "
+                      "the free tets), swap (swaps among the candidates greedy found: fewer hexes, "
+                      "faster at scale) or greedy (paper: best first)")
            ->check(CLI::IsMember({"greedy", "swap", "swap-wide"}));
        sub.add_flag("--nearest-frame{false}", a->volume.inherit_frame,
                     "interior points take the nearest surface vertex's frame (paper) instead of "

@@ -24,8 +24,8 @@ namespace hexfem {
 
 // How the hexes are chosen among the candidates: the paper's greedy pass alone, or followed by
 // the swaps below, on the candidates the greedy pass found (kSwap) or on a wider search
-// (kSwapWide: also every candidate around the hexes that touch a free tet by a face; ANC101
-// h = 4.5 H_nbr 80.01 against 78.84 %, but 1M vertices 59-65 s against 46 s; volume.md).
+// (kSwapWide, the default: also every candidate around the hexes that touch a free tet by a face;
+// ANC101 h = 4.5 H_nbr 80.01 against 78.84 %, 1M vertices 52-53 s against 46 s; volume.md).
 enum class HexSelection { kGreedy, kSwap, kSwapWide };
 // "greedy" / "swap" / "swap-wide"; throws hexfem::Error for another name.
 HexSelection parse_hex_selection(const std::string& name);

@@ -86,10 +86,10 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
   }
   // The swaps' pool: the candidates the greedy pass enumerated at or above the swaps' quality
   // floor that hold a tet it left free. Each hex a 1-for-k swap puts in holds one: it overlaps
-  // only the hex taken out, and k >= 2 hexes have more tets than that one. The bands after the
-  // first search only around free tets; searching every band in full for the pool gave ANC101
-  // h = 4.5 H_nbr 80.01 against 78.84 %, H_vol / 60 +0.66, but 1M vertices in 84.9 s against
-  // 46 s. swap-wide finds the same pool in 52-53 s (validation/volume.md).
+  // only the hex taken out, and k >= 2 hexes have more tets than that one. The greedy pass's
+  // bands after the first search only around free tets (kSwap's pool). Searching every band in
+  // full gives ANC101 h = 4.5 H_nbr 80.01 against 78.84 %, H_vol / 60 +0.66, but 1M vertices in
+  // 84.9 s against 46 s; kSwapWide finds the same pool in 52-53 s (validation/volume.md).
   const SwapOptions so;
   SortedRuns<HexCorners> found;
   place_hexes_greedily(s, ho, index, &r.hex_candidates, &found, static_cast<float>(so.min_quality));

@@ -70,8 +70,9 @@ struct VolumeOptions {
   // --hex-selection: the paper's greedy best-first pass alone, or followed by 1-for-k swaps on
   // the candidates' conflict graph (recombine_select.hpp). Swaps by default since session 32,
   // when their pool became the candidates holding a free tet (ANC101 h = 4.5: H_nbr 77.04 ->
-  // 78.84 %, 1M vertices +3 s; validation/volume.md).
-  HexSelection hex_selection = HexSelection::kSwap;
+  // 78.84 %, 1M vertices +3 s); on the wide search's pool since session 33, when its tests moved
+  // to where the candidates are found (80.01 %, 1M vertices +6 s; validation/volume.md).
+  HexSelection hex_selection = HexSelection::kSwapWide;
 };
 
 struct VolumeReport {
