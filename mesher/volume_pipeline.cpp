@@ -112,6 +112,7 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
                     [](const Candidate& a, const Candidate& b) { return a.nodes == b.nodes; }),
         pool.end());
   }
+  r.stages.push_back(timer.lap("swap pool"));
   r.hex_swaps = improve_by_swaps(s, pool, so);
   // The index has no removal: rebuilt from the elements kept and put in.
   index = ConformityIndex{};
