@@ -224,6 +224,41 @@ TEST(HexSelection, TheWideSearchFindsEveryCandidateOfAOneForKSwap) {
               found.size(), cands.size());
 }
 
+TEST(HexSelection, TheWideSearchKeepsTheFilledHexesThatHoldAFreeTet) {
+  // hexes_holding_free_tets with a search mask tests each hex where it is found. Against the long
+  // way round: every filled candidate (swap_pool, with its tets) that the masked enumeration
+  // finds and one of whose own tets is free.
+  const Lattice L = jittered_lattice();
+  const TetTopology topo(L.tets, L.surface);
+  std::vector<Candidate> cands = hex_candidate_list(topo, HexOptions{});
+  RecombineState state(topo, RecombineLimits{});
+  ConformityIndex index;
+  place_greedily(state, cands, index);
+  const std::vector<char> mask = wide_swap_search_mask(state);
+  std::set<std::array<std::int32_t, 8>> found;
+  for (const auto& run : enumerate_hexes(topo, HexOptions{}, QualityBand{}, &mask).runs)
+    for (const HexCorners& h : run) found.insert(h.nodes);
+  std::vector<Candidate> expected;
+  for (const Candidate& c : swap_pool(topo, HexOptions{})) {
+    bool has_free = false;
+    for (std::int32_t t : c.tets) has_free = has_free || (t >= 0 && !state.used[t]);
+    if (has_free && found.count(c.nodes)) expected.push_back(c);
+  }
+  const std::vector<Candidate> got =
+      hexes_holding_free_tets(topo, HexOptions{}, QualityBand{}, mask, state.used);
+  ASSERT_EQ(got.size(), expected.size());
+  EXPECT_GT(got.size(), 10u);
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(got[i].nodes, expected[i].nodes) << i;  // the same hexes, best first
+    auto a = got[i].tets, b = expected[i].tets;
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    EXPECT_EQ(a, b) << i;
+  }
+  std::printf("wide search: %zu filled hexes hold a free tet, of %zu found\n", got.size(),
+              found.size());
+}
+
 TEST(HexSelection, NamesAndPipelineSwitch) {
   EXPECT_EQ(parse_hex_selection("greedy"), HexSelection::kGreedy);
   EXPECT_EQ(parse_hex_selection("swap"), HexSelection::kSwap);
