@@ -189,22 +189,35 @@ TEST(HexSelection, SwapsOnAJitteredLatticeKeepEveryRule) {
               g.elements.size(), s.elements.size(), s.report.swaps, s.report.fillable);
 }
 
-TEST(HexSelection, TheWideSearchFindsEveryCandidateOfAOneForKSwap) {
+// The jittered lattice after the greedy pass, and the wide search's mask.
+class WideSearch : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ConformityIndex index;
+    place_greedily(state, cands, index);
+    owner = state.element_of_tets();
+    mask = wide_swap_search_mask(state);
+  }
+  // Every hex the enumeration finds under the mask.
+  std::set<std::array<std::int32_t, 8>> found_under_mask() const {
+    std::set<std::array<std::int32_t, 8>> found;
+    for (const auto& run : enumerate_hexes(topo, HexOptions{}, QualityBand{}, &mask).runs)
+      for (const HexCorners& h : run) found.insert(h.nodes);
+    return found;
+  }
+  const Lattice L = jittered_lattice();
+  const TetTopology topo{L.tets, L.surface};
+  std::vector<Candidate> cands = hex_candidate_list(topo, HexOptions{});
+  RecombineState state{topo, RecombineLimits{}};
+  std::vector<std::int32_t> owner;
+  std::vector<char> mask;
+};
+
+TEST_F(WideSearch, FindsEveryCandidateOfAOneForKSwap) {
   // wide_swap_search_mask's claim: a candidate holding a free tet whose other tets are all of one
   // element is found by the search it restricts. Checked against every candidate (swap_pool) on
   // the jittered lattice after the greedy pass.
-  const Lattice L = jittered_lattice();
-  const TetTopology topo(L.tets, L.surface);
-  std::vector<Candidate> cands = hex_candidate_list(topo, HexOptions{});
-  RecombineState state(topo, RecombineLimits{});
-  ConformityIndex index;
-  place_greedily(state, cands, index);
-  const std::vector<std::int32_t> owner = state.element_of_tets();
-  const std::vector<char> mask = wide_swap_search_mask(state);
-  std::set<std::array<std::int32_t, 8>> found;
-  const SortedRuns<HexCorners> runs = enumerate_hexes(topo, HexOptions{}, QualityBand{}, &mask);
-  for (const auto& run : runs.runs)
-    for (const HexCorners& h : run) found.insert(h.nodes);
+  const auto found = found_under_mask();
   std::size_t checked = 0;
   for (const Candidate& c : swap_pool(topo, HexOptions{})) {
     bool has_free = false;
@@ -224,20 +237,11 @@ TEST(HexSelection, TheWideSearchFindsEveryCandidateOfAOneForKSwap) {
               found.size(), cands.size());
 }
 
-TEST(HexSelection, TheWideSearchKeepsTheFilledHexesThatHoldAFreeTet) {
+TEST_F(WideSearch, KeepsTheFilledHexesThatHoldAFreeTet) {
   // hexes_holding_free_tets with a search mask tests each hex where it is found. Against the long
   // way round: every filled candidate (swap_pool, with its tets) that the masked enumeration
   // finds and one of whose own tets is free.
-  const Lattice L = jittered_lattice();
-  const TetTopology topo(L.tets, L.surface);
-  std::vector<Candidate> cands = hex_candidate_list(topo, HexOptions{});
-  RecombineState state(topo, RecombineLimits{});
-  ConformityIndex index;
-  place_greedily(state, cands, index);
-  const std::vector<char> mask = wide_swap_search_mask(state);
-  std::set<std::array<std::int32_t, 8>> found;
-  for (const auto& run : enumerate_hexes(topo, HexOptions{}, QualityBand{}, &mask).runs)
-    for (const HexCorners& h : run) found.insert(h.nodes);
+  const auto found = found_under_mask();
   std::vector<Candidate> expected;
   for (const Candidate& c : swap_pool(topo, HexOptions{})) {
     bool has_free = false;
