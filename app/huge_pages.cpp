@@ -2,14 +2,15 @@
 //
 // Why: the mesher's arrays are large and touched once or twice (tets, candidates, adjacency). At a
 // million vertices a tenth of the run went to the kernel's page faults, one per 4 KiB page on
-// first touch. With THP in "madvise" mode (Debian's default) a block the program marks with
-// MADV_HUGEPAGE faults once per 2 MiB instead: ANC101 at h = 2 took 48-50 s instead of 55-61 s,
-// the same mesh (validation/volume.md). glibc can do this for every allocation, but only when
+// first touch. With THP in "madvise" mode (as on the machine measured) a block the program marks
+// with MADV_HUGEPAGE faults once per 2 MiB instead: ANC101 at h = 2 took 48-50 s instead of 55-61
+// s, the same mesh (validation/volume.md). glibc can do this for every allocation, but only when
 // GLIBC_TUNABLES names glibc.malloc.hugetlb at start, which a program cannot set for itself.
 //
-// Only this executable replaces operator new (the tests and libraries keep the standard one);
-// TetGen's child process inherits it. Blocks still come from malloc and go back with free: only
-// the advice is added, on the whole 2 MiB pages inside a block of at least kHugeBlock bytes.
+// Only this executable replaces operator new (the tests, the libraries and a HEXFEM_SANITIZE
+// build keep the standard one); TetGen's child process inherits it. Blocks still come from malloc
+// and go back with free: only the advice is added, on the whole 2 MiB pages inside a block of at
+// least kHugeBlock bytes.
 #include <sys/mman.h>
 
 #include <cstdint>
