@@ -121,15 +121,70 @@ void choose_compatible(const std::vector<Candidate>& pool, const std::vector<std
 
 }  // namespace
 
-std::vector<char> wide_swap_search_mask(const RecombineState& s) {
+namespace {
+
+// The tet across face f of tet t (faces as in wide_swap_search_mask), or -1.
+std::int32_t across(const RecombineState& s, std::int32_t t, int f) {
+  const auto& T = s.topo.mesh().tets[t];
+  return s.topo.tet_across(t, T[f], T[(f + 1) % 4], T[(f + 2) % 4]);
+}
+
+// The free tets whose component of free tets (joined through shared triangles) holds one that is
+// not a sliver flat on a quad face of an element next to it. Most free tets at a million
+// vertices are such slivers between two hexes' faces, in components of their own; left out, they
+// halve the tets wide_swap_search_mask opens.
+std::vector<char> free_tets_with_a_solid_neighbourhood(const RecombineState& s,
+                                                       const std::vector<std::int32_t>& owner) {
   const auto& T = s.topo.mesh().tets;
-  const std::vector<std::int32_t> owner = s.element_of_tets();
-  std::vector<char> open(s.elements.size(), 0);
-  for (std::size_t t = 0; t < T.size(); ++t) {
-    if (s.used[t]) continue;
+  const auto nt = static_cast<std::int32_t>(T.size());
+  auto sliver = [&](std::int32_t t) {
     for (int f = 0; f < 4; ++f) {
-      const std::int32_t n = s.topo.tet_across(static_cast<std::int32_t>(t), T[t][f],
-                                               T[t][(f + 1) % 4], T[t][(f + 2) % 4]);
+      const std::int32_t n = across(s, t, f);
+      if (n >= 0 && owner[n] >= 0) {
+        const Candidate& e = s.elements[owner[n]];
+        if (is_face_sliver(e.kind, e.nodes.data(), T[t])) return true;
+      }
+    }
+    return false;
+  };
+  std::vector<char> keep(T.size(), 0), seen(T.size(), 0);
+  std::vector<std::int32_t> stack, component;
+  for (std::int32_t t0 = 0; t0 < nt; ++t0) {
+    if (s.used[t0] || seen[t0]) continue;
+    bool solid = false;
+    component.clear();
+    stack.assign(1, t0);
+    seen[t0] = 1;
+    while (!stack.empty()) {
+      const std::int32_t t = stack.back();
+      stack.pop_back();
+      component.push_back(t);
+      solid = solid || !sliver(t);
+      for (int f = 0; f < 4; ++f) {
+        const std::int32_t n = across(s, t, f);
+        if (n >= 0 && !s.used[n] && !seen[n]) {
+          seen[n] = 1;
+          stack.push_back(n);
+        }
+      }
+    }
+    if (solid)
+      for (std::int32_t t : component) keep[t] = 1;
+  }
+  return keep;
+}
+
+}  // namespace
+
+std::vector<char> wide_swap_search_mask(const RecombineState& s) {
+  const auto nt = static_cast<std::int32_t>(s.used.size());
+  const std::vector<std::int32_t> owner = s.element_of_tets();
+  const std::vector<char> from = free_tets_with_a_solid_neighbourhood(s, owner);
+  std::vector<char> open(s.elements.size(), 0);
+  for (std::int32_t t = 0; t < nt; ++t) {
+    if (!from[t]) continue;
+    for (int f = 0; f < 4; ++f) {
+      const std::int32_t n = across(s, t, f);
       if (n >= 0 && owner[n] >= 0) open[owner[n]] = 1;
     }
   }

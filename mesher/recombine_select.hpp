@@ -62,9 +62,13 @@ SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& poo
                             const SwapOptions& options = {});
 
 // The tets a wider search for swap candidates may use (0) or not (1), after the greedy pass: the
-// free tets and those of the elements that share a triangle with a free tet. A hex a 1-for-k
-// swap puts in holds free tets and tets of the one element taken out, and inside it a free tet
-// shares a triangle with one of that element's: so that element is among these.
+// free tets and those of the elements that share a triangle with a free tet, leaving out the
+// free tets whose component (free tets joined through shared triangles) holds only slivers flat
+// on an element's quad face. A hex a 1-for-k swap puts in holds free tets and tets of the one
+// element P taken out. A sliver of another element inside it would break the conformity rules
+// against that element (or overlap its tets), and P's slivers alone would make it P: so it holds
+// a free tet that is no sliver. Its tets are connected through shared triangles, so that tet's
+// component touches P, and P is among these elements.
 std::vector<char> wide_swap_search_mask(const RecombineState& s);
 
 // Every candidate at or above options.min_quality that tets fill (fillable_hex_list): the
