@@ -25,7 +25,7 @@ namespace hexfem {
 // How the hexes are chosen among the candidates: the paper's greedy pass alone, or followed by
 // the swaps below, on the candidates the greedy pass found (kSwap) or on a wider search
 // (kSwapWide, the default: also every candidate around the hexes that touch a free tet by a face;
-// ANC101 h = 4.5 H_nbr 80.01 against 78.84 %, 1M vertices 50 s against 40 s; volume.md).
+// ANC101 h = 4.5 H_nbr 80.01 against 78.84 %, 1M vertices 46 s against 40 s; volume.md).
 enum class HexSelection { kGreedy, kSwap, kSwapWide };
 // "greedy" / "swap" / "swap-wide"; throws hexfem::Error for another name.
 HexSelection parse_hex_selection(const std::string& name);

@@ -89,7 +89,8 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
   // only the hex taken out, and k >= 2 hexes have more tets than that one. The greedy pass's
   // bands after the first search only around free tets (kSwap's pool). Searching every band in
   // full gives ANC101 h = 4.5 H_nbr 80.01 against 78.84 %, H_vol / 60 +0.66, but 1M vertices in
-  // 84.9 s against 46 s; kSwapWide finds the same pool in 52.6 s (validation/volume.md).
+  // 84.9 s against 46 s; kSwapWide searches around the free tets instead (46 s;
+  // validation/volume.md).
   const SwapOptions so;
   SortedRuns<HexCorners> found;
   place_hexes_greedily(s, ho, index, &r.hex_candidates, &found, static_cast<float>(so.min_quality));

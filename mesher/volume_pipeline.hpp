@@ -71,7 +71,7 @@ struct VolumeOptions {
   // the candidates' conflict graph (recombine_select.hpp). Swaps by default since session 32,
   // when their pool became the candidates holding a free tet (ANC101 h = 4.5: H_nbr 77.04 ->
   // 78.84 %, 1M vertices +3 s); on the wide search's pool since session 33, when its tests moved
-  // to where the candidates are found (80.01 %, 1M vertices 50 s against 40 s;
+  // to where the candidates are found (80.01 %, 1M vertices 46 s against 40 s;
   // validation/volume.md).
   HexSelection hex_selection = HexSelection::kSwapWide;
 };
