@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <random>
 #include <set>
 
@@ -261,6 +262,72 @@ TEST_F(WideSearch, KeepsTheFilledHexesThatHoldAFreeTet) {
   }
   std::printf("wide search: %zu filled hexes hold a free tet, of %zu found\n", got.size(),
               found.size());
+}
+
+// Two unit cubes side by side in x, six Kuhn tets each; the second is mirrored in y, so the two
+// split their shared face along different diagonals, and a flat tet on that face's four corners
+// lies between them: a sliver free after the greedy pass, beside two hexes.
+Lattice two_cubes_with_a_sliver() {
+  Lattice L;
+  auto id = [](int x, int y, int z) { return x + 3 * (y + 2 * z); };
+  for (int z = 0; z < 2; ++z)
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 3; ++x) L.tets.nodes.push_back({1.0 * x, 1.0 * y, 1.0 * z});
+  auto positive = [&](std::array<std::int32_t, 4> t) {
+    const auto& X = L.tets.nodes;
+    Vec3 e[3];
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) e[k][a] = X[t[k + 1]][a] - X[t[0]][a];
+    const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+                       e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                       e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+    if (det < 0) std::swap(t[2], t[3]);
+    return t;
+  };
+  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (int cube = 0; cube < 2; ++cube)
+    for (const auto& p : perms) {
+      std::array<std::int32_t, 4> t;
+      int c[3] = {0, 0, 0};
+      for (int k = 0; k < 4; ++k) {
+        if (k > 0) c[p[k - 1]] = 1;
+        t[k] = cube == 0 ? id(c[0], c[1], c[2]) : id(1 + c[0], 1 - c[1], c[2]);
+      }
+      L.tets.tets.push_back(positive(t));
+    }
+  L.tets.tets.push_back({id(1, 0, 0), id(1, 1, 0), id(1, 0, 1), id(1, 1, 1)});  // the sliver
+  L.tets.tet_solid.assign(L.tets.tets.size(), 1);
+  // The boundary: the tet faces that only one tet has, outward.
+  std::map<std::array<std::int32_t, 3>, std::pair<int, std::array<std::int32_t, 3>>> faces;
+  for (const auto& t : L.tets.tets)
+    for (int f = 0; f < 4; ++f) {
+      std::array<std::int32_t, 3> tri = {t[(f + 1) % 4], t[(f + 2) % 4], t[(f + 3) % 4]};
+      if (f % 2 == 0) std::swap(tri[1], tri[2]);  // the face opposite corner f, outward
+      auto key = tri;
+      std::sort(key.begin(), key.end());
+      auto& entry = faces[key];
+      ++entry.first;
+      entry.second = tri;
+    }
+  L.surface.mesh.nodes = L.tets.nodes;
+  for (const auto& [key, entry] : faces)
+    if (entry.first == 1)
+      L.surface.mesh.add_bface(entry.second[0], entry.second[1], entry.second[2], -1, 1);
+  return L;
+}
+
+TEST(HexSelection, SliversAloneOpenNothingForTheWideSearch) {
+  // A free tet flat on the quad face two hexes share is in no hex a swap could put in: the wide
+  // search's mask opens neither hex.
+  const Lattice L = two_cubes_with_a_sliver();
+  const TetTopology topo(L.tets, L.surface);
+  std::vector<Candidate> cands = hex_candidate_list(topo, HexOptions{});
+  RecombineState state(topo, RecombineLimits{});
+  ConformityIndex index;
+  ASSERT_EQ(place_greedily(state, cands, index), 2u);
+  ASSERT_FALSE(state.used.back());  // the sliver (the last tet) is free
+  const std::vector<char> mask = wide_swap_search_mask(state);
+  EXPECT_EQ(mask, state.used);
 }
 
 TEST(HexSelection, NamesAndPipelineSwitch) {
