@@ -34,6 +34,14 @@ void* allocate(std::size_t n) {
   return p;
 }
 
+void* allocate_or_null(std::size_t n) noexcept {
+  try {
+    return allocate(n);
+  } catch (...) {
+    return nullptr;
+  }
+}
+
 }  // namespace
 
 void* operator new(std::size_t n) {
@@ -43,18 +51,10 @@ void* operator new[](std::size_t n) {
   return allocate(n);
 }
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  try {
-    return allocate(n);
-  } catch (...) {
-    return nullptr;
-  }
+  return allocate_or_null(n);
 }
 void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  try {
-    return allocate(n);
-  } catch (...) {
-    return nullptr;
-  }
+  return allocate_or_null(n);
 }
 void operator delete(void* p) noexcept {
   std::free(p);

@@ -1,8 +1,10 @@
 #include "mesher/recombine_hex.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 
+#include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/quality.hpp"
 
 namespace hexfem {
@@ -150,11 +152,18 @@ struct FreeStars {
   }
 };
 
-// Whether a free tet has its four vertices among h's corners, not all on one face.
+// Whether a free tet has its four vertices among h's corners, not all on one face (a free tet
+// on one face is a flat sliver there).
 bool has_free_tet(const TetTopology& topo, const HexCorners& h, const FreeStars& free) {
   const auto& T = topo.mesh().tets;
-  // Corner masks of the six faces (Gmsh order): a free tet on one face is a flat sliver there.
-  static constexpr unsigned kFace[6] = {0x0f, 0xf0, 0x33, 0x66, 0xcc, 0x99};
+  // The faces as masks of corners, from the hex's face table.
+  static const std::array<unsigned, 6> kFace = [] {
+    std::array<unsigned, 6> mask{};
+    const CellFaces cf = faces_of(CellKind::Hex8);
+    for (int f = 0; f < 6; ++f)
+      for (int i = 0; i < cf.face[f].n; ++i) mask[f] |= 1u << cf.face[f].v[i];
+    return mask;
+  }();
   for (std::int32_t u : h.nodes)
     for (std::int32_t k = free.first[u]; k < free.first[u + 1]; ++k) {
       unsigned mask = 0;
@@ -166,8 +175,7 @@ bool has_free_tet(const TetTopology& topo, const HexCorners& h, const FreeStars&
         }
         mask |= 1u << (at - h.nodes.begin());
       }
-      if (mask && std::find(std::begin(kFace), std::end(kFace), mask) == std::end(kFace))
-        return true;
+      if (mask && std::find(kFace.begin(), kFace.end(), mask) == kFace.end()) return true;
     }
   return false;
 }
@@ -228,11 +236,6 @@ std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const He
   // Fill tests in vertex order, where the tets around are in cache.
   std::sort(near.begin(), near.end(),
             [](const HexCorners& a, const HexCorners& b) { return a.nodes < b.nodes; });
-  // Two searches may have found the same hex.
-  near.erase(
-      std::unique(near.begin(), near.end(),
-                  [](const HexCorners& a, const HexCorners& b) { return a.nodes == b.nodes; }),
-      near.end());
   std::vector<Candidate> list(near.size());
   std::vector<char> fills(near.size(), 0);
   const auto n = static_cast<std::ptrdiff_t>(near.size());

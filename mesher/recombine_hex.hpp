@@ -51,7 +51,7 @@ std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOpti
 std::vector<Candidate> fillable_hex_list(const TetTopology& topo, const HexOptions& options,
                                          const QualityBand& band = {});
 
-// The hexes of `found` (each once, if found twice) that tets fill, with their tets, best first,
+// The hexes of `found` (each listed once) that tets fill, with their tets, best first,
 // keeping only those with a free tet (used[t] == 0) whose four vertices are corners of the hex,
 // not all on one face (a sliver flat on a face is not inside).
 std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const HexOptions& options,

@@ -119,10 +119,6 @@ void choose_compatible(const std::vector<Candidate>& pool, const std::vector<std
   }
 }
 
-}  // namespace
-
-namespace {
-
 // The tet across face f of tet t (faces as in wide_swap_search_mask), or -1.
 std::int32_t across(const RecombineState& s, std::int32_t t, int f) {
   const auto& T = s.topo.mesh().tets[t];

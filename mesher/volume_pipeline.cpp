@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -105,13 +106,10 @@ void place_hexes(RecombineState& s, ConformityIndex& index, HexSelection selecti
     const std::vector<Candidate> more =
         hexes_holding_free_tets(s.topo, ho, QualityBand{static_cast<float>(so.min_quality), first},
                                 wide_swap_search_mask(s), s.used);
-    const auto mid = static_cast<std::ptrdiff_t>(pool.size());
-    pool.insert(pool.end(), more.begin(), more.end());
-    std::inplace_merge(pool.begin(), pool.begin() + mid, pool.end());
-    pool.erase(
-        std::unique(pool.begin(), pool.end(),
-                    [](const Candidate& a, const Candidate& b) { return a.nodes == b.nodes; }),
-        pool.end());
+    std::vector<Candidate> both;
+    both.reserve(pool.size() + more.size());
+    std::set_union(pool.begin(), pool.end(), more.begin(), more.end(), std::back_inserter(both));
+    pool = std::move(both);
   }
   r.stages.push_back(timer.lap("swap pool"));
   r.hex_swaps = improve_by_swaps(s, pool, so);
