@@ -2,8 +2,10 @@
 // analytic values of the parts (box, cylinder, cone, sphere) and hand-checked figures.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -163,6 +165,42 @@ void expect_error(const std::string& path, const std::string& needle) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+  }
+}
+
+// The part's and each solid's box skip the exact (optimal) box of the faces that cannot reach
+// past the others (cad_model.cpp): they must still be the union of every face's exact box, which
+// face_bbox computes one face at a time. Parts with B-splines, tori, cones and many faces.
+TEST(CadModel, PartBoxIsTheUnionOfTheExactFaceBoxes) {
+  for (const char* name : {"freecad_hole_puzzle_counterbore.brep", "gehause_rohteil.stp",
+                           "Propeller.rle", "tie_rod.step", "1385_Laufrad_1000.stp"}) {
+    SCOPED_TRACE(name);
+    const CadModel cad = CadModel::read(data(name));
+    BBox3 all, solid;
+    for (int k = 0; k < 3; ++k) {
+      all.min[k] = solid.min[k] = std::numeric_limits<double>::infinity();
+      all.max[k] = solid.max[k] = -std::numeric_limits<double>::infinity();
+    }
+    for (int f = 1; f <= cad.num_faces(); ++f) {
+      const BBox3 b = cad.face_bbox(f);
+      const bool in_solid_1 = !cad.solids_of_face(f).empty() && cad.solids_of_face(f)[0] == 1;
+      for (int k = 0; k < 3; ++k) {
+        all.min[k] = std::min(all.min[k], b.min[k]);
+        all.max[k] = std::max(all.max[k], b.max[k]);
+        if (!in_solid_1) continue;
+        solid.min[k] = std::min(solid.min[k], b.min[k]);
+        solid.max[k] = std::max(solid.max[k], b.max[k]);
+      }
+    }
+    const BBox3 part = cad.bbox(), first = cad.solid_bbox(1);
+    // Face boxes carry their own gap (1e-7 or 0): the union of the gapped boxes differs from
+    // the gapped union by at most that.
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(part.min[k], all.min[k], 2e-7);
+      EXPECT_NEAR(part.max[k], all.max[k], 2e-7);
+      EXPECT_NEAR(first.min[k], solid.min[k], 2e-7);
+      EXPECT_NEAR(first.max[k], solid.max[k], 2e-7);
+    }
   }
 }
 
