@@ -11,12 +11,14 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/mesh/quality.hpp"
+#include "mesher/mesh_reports.hpp"
 #include "mesher/pipeline.hpp"
 
 namespace hexfem {
@@ -143,6 +145,15 @@ TEST(TieRod, CoarseSizeIsMeshedAgainWithACurvatureBound) {
   EXPECT_EQ(r.surface.curvature_used, 16);
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings[0].find("curvature bound of 16"), std::string::npos) << r.warnings[0];
+  // The --json stages add up to the total, the first mesh's time listed on its own: the report
+  // of the mesh kept has only its own stages.
+  nlohmann::json j;
+  to_json(j, r);
+  double sum = 0;
+  for (const auto& stage : j["pipeline_stages"]) sum += stage["seconds"].get<double>();
+  EXPECT_NEAR(sum, r.total_seconds, 1e-9);
+  EXPECT_EQ(j["pipeline_stages"].back()["name"], "earlier attempts (meshed again)");
+  EXPECT_GT(j["pipeline_stages"].back()["seconds"].get<double>(), 0.05);
 }
 
 }  // namespace
