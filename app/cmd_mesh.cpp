@@ -196,6 +196,13 @@ RegisterCommand reg{
        sub.add_flag("--no-coherent-first{false}", a->volume.coherent_first,
                     "every surface node's front starts at once (paper) instead of the fronts of "
                     "walls whose frames do not turn first (study)");
+       sub.add_option("--coherent-axes", a->volume.coherent.min_axes,
+                      "with the coherent walls first, the walls of a frame lead when they face at "
+                      "least this many of its axes (default 3; study)")
+           ->check(CLI::Range(1, 3));
+       sub.add_option("--coherent-share", a->volume.coherent.min_share,
+                      "... and hold at least this share of the surface nodes (default 0.1; study)")
+           ->check(CLI::Range(0.0, 1.0));
        sub.add_option("--relax-points", a->volume.relax_points,
                       "Jacobi sweeps moving each interior point towards its lattice neighbours "
                       "after the frontal insertion (default 30; 0 = off)")

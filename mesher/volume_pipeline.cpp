@@ -65,6 +65,7 @@ VolumePoints insert_points(const SurfaceMesh& surface, const FrameField3D& field
   po.inherit_frame = o.inherit_frame;
   po.smooth_frame = o.smooth_frame;
   po.coherent_first = o.coherent_first;
+  po.coherent = o.coherent;
   po.relax_iterations = o.relax_points;
   po.lpcvt.iterations = o.lp_cvt;
   po.lpcvt.p = o.lp_cvt_p;

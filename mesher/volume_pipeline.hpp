@@ -18,6 +18,7 @@
 #include "mesher/recombine_select.hpp"
 #include "mesher/stage_timer.hpp"
 #include "mesher/surface_mesh.hpp"
+#include "mesher/volume_points.hpp"
 #include "mesher/volume_points_lpcvt.hpp"
 
 namespace hexfem {
@@ -40,6 +41,7 @@ struct VolumeOptions {
   bool smooth_frame = false;    // --smooth-frame: the smooth field's frame (frame_field_smooth.hpp)
   // Coherent fronts first (volume_points.hpp); --no-coherent-first: every front at once (paper).
   bool coherent_first = true;
+  CoherentWalls coherent;  // --coherent-axes N, --coherent-share S (study switches)
   // --relax-points N: lattice relaxation sweeps (volume_points.hpp); 30 by default since session
   // 29 (volume.md, "Relaxation and edge spacing by default"), 0 = off.
   int relax_points = 30;

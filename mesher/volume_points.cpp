@@ -1,6 +1,7 @@
 #include "mesher/volume_points.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <boost/geometry.hpp>
 #include <boost/geometry/index/rtree.hpp>
 #include <cmath>
@@ -305,8 +306,6 @@ std::vector<Vec3> ghost_points(const SurfaceMesh& surface, const SolidLocator& l
 
 // Two surface frames closer than this (up to the cube's symmetries) count as the same.
 constexpr double kSameFrame = std::numbers::pi / 180;  // 1 degree
-// A frame's walls lead only when they hold this share of the surface nodes.
-constexpr double kLeadingShare = 0.1;
 // Frames compared at most (a part of many differently turned planar walls): the rest do not lead.
 constexpr std::size_t kMaxFrames = 256;
 
@@ -322,10 +321,12 @@ int axis_along(const Frame& f, const Vec3& n) {
 //  - the frame field does not turn there: every node sharing a triangle with one has its frame
 //    within kSameFrame. That is a planar wall away from holes, not a curved face (its normal
 //    turns) nor a planar face near a hole (its cross field turns there);
-//  - and that frame is shared by walls facing each of its three axes, holding kLeadingShare of
-//    the surface nodes: box-like walls that one lattice fits, not the two sides of a plate or a
-//    few flats on a curved part (their lattice would flood what curved walls bound).
-std::vector<char> leading_nodes(const MixedMesh& m, const std::vector<Frame>& frame) {
+//  - and that frame is shared by walls facing at least `walls.min_axes` of its axes, holding
+//    `walls.min_share` of the surface nodes: box-like walls that one lattice fits, not the two
+//    sides of a plate (one axis) nor a few flats on a curved part (their lattice would flood
+//    what curved walls bound). Every such frame leads at once (CoherentWalls).
+std::vector<char> leading_nodes(const MixedMesh& m, const std::vector<Frame>& frame,
+                                const CoherentWalls& walls) {
   const std::size_t n = m.nodes.size();
   std::vector<char> steady(n, 1);  // the frame does not turn there
   for (std::size_t t = 0; t < m.num_bfaces(); ++t)
@@ -354,8 +355,8 @@ std::vector<char> leading_nodes(const MixedMesh& m, const std::vector<Frame>& fr
   }
   std::vector<char> lead(n, 0);
   for (std::size_t v = 0; v < n; ++v)
-    lead[v] = which[v] >= 0 && axes[which[v]] == 7u &&
-              static_cast<double>(members[which[v]]) >= kLeadingShare * static_cast<double>(n);
+    lead[v] = which[v] >= 0 && std::popcount(axes[which[v]]) >= walls.min_axes &&
+              static_cast<double>(members[which[v]]) >= walls.min_share * static_cast<double>(n);
   return lead;
 }
 
@@ -368,11 +369,11 @@ struct Candidate {
 };
 
 // smooth: when given, every point's frame is the smooth field's at its position.
-// coherent_first: VolumePointsOptions::coherent_first.
+// coherent: VolumePointsOptions::coherent_first's walls, or null (every front at once).
 VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
                      const SolidLocator& locator, double k, bool inherit_frame,
-                     const SmoothFrameField* smooth, bool coherent_first, int relax_iterations,
-                     const LpCvtOptions& lpcvt) {
+                     const SmoothFrameField* smooth, const CoherentWalls* coherent,
+                     int relax_iterations, const LpCvtOptions& lpcvt) {
   const std::size_t ns = surface.mesh.nodes.size();
   Cloud cloud(surface.mesh.nodes);
   // Per cloud point: its size, its frame, and its solid (0 = surface).
@@ -389,7 +390,7 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
   // it runs empty.
   std::vector<std::int32_t> queue, later;
   const std::vector<char> first =
-      coherent_first ? leading_nodes(surface.mesh, frame) : std::vector<char>(ns, 1);
+      coherent ? leading_nodes(surface.mesh, frame, *coherent) : std::vector<char>(ns, 1);
   for (std::size_t v = 0; v < ns; ++v)
     (first[v] ? queue : later).push_back(static_cast<std::int32_t>(v));
   // A surface node that no triangle uses would grow points outside: skip it.
@@ -564,9 +565,9 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   if (options.smooth_frame)
     smooth = std::make_unique<SmoothFrameField>(surface, field, locator, options.smooth);
   if (!options.random) {
-    VolumePoints out =
-        frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(),
-                options.coherent_first, options.relax_iterations, options.lpcvt);
+    VolumePoints out = frontal(surface, field, locator, options.k, options.inherit_frame,
+                               smooth.get(), options.coherent_first ? &options.coherent : nullptr,
+                               options.relax_iterations, options.lpcvt);
     jitter_points(out, field, options.jitter);
     return out;
   }
@@ -575,7 +576,7 @@ VolumePoints insert_volume_points(const SurfaceMesh& surface, const FrameField3D
   if (target == 0) {
     // Only the count is used: no relaxation.
     frontal_count = frontal(surface, field, locator, options.k, options.inherit_frame, smooth.get(),
-                            options.coherent_first, 0, {})
+                            options.coherent_first ? &options.coherent : nullptr, 0, {})
                         .points.size();
     target = frontal_count;
   }

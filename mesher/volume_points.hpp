@@ -31,6 +31,18 @@
 
 namespace hexfem {
 
+// Which walls lead with coherent_first: frames whose walls face at least min_axes of their axes
+// and hold at least min_share of the surface nodes. Three and 10 %: only the part's main frame
+// leads (sessions 31-). Two and 1 % (--coherent-axes 2 --coherent-share 0.01, a study) let a
+// block turned against the rest lead too, before the main lattice floods it from the base:
+// ANC101 h = 4.5 without pyramids or NC repair H_nbr 76.84 -> 77.75 %; but pairs of flats on
+// curved parts lead as well and flood them (control arm H_vol / 60 -4.6 points, mean / 30 and
+// / 60 -0.33 and -0.22; validation/volume.md, session 34).
+struct CoherentWalls {
+  int min_axes = 3;
+  double min_share = 0.1;
+};
+
 struct VolumePointsOptions {
   double k = 0.7;                // exclusion radius factor (paper: 0.7), in (0, 1)
   bool random = false;           // random points at the frontal density instead (for the study)
@@ -49,12 +61,13 @@ struct VolumePointsOptions {
   SmoothFrameOptions smooth;
   // Coherent walls first: the FIFO starts from the surface nodes of walls where the frame field
   // does not turn and whose common frame faces walls along all three of its axes (box-like walls,
-  // 10 % of the surface nodes or more: volume_points.cpp, leading_nodes); the other fronts
-  // (curved faces, around holes) start when it runs empty. One straight lattice then fills what
-  // those walls reach, and the turning fronts only the layers left next to their faces (ANC101
-  // h = 4.5: H_nbr 66.75 -> 77.04 %, H_vol 88.14 -> 92.73 %, NC 3.93 -> 2.21 %). The pipeline
-  // asks for it (VolumeOptions::coherent_first).
+  // 10 % of the surface nodes or more: volume_points.cpp, leading_nodes, CoherentWalls); the other
+  // fronts (curved faces, around holes) start when it runs empty. One straight lattice then fills
+  // what those walls reach, and the turning fronts only the layers left next to their faces (ANC101
+  // h = 4.5: H_nbr 66.75 -> 77.04 %, H_vol 88.14 -> 92.73 %, NC 3.93 -> 2.21 %). The pipeline asks
+  // for it (VolumeOptions::coherent_first).
   bool coherent_first = false;
+  CoherentWalls coherent;
   // Jacobi sweeps of the lattice relaxation after the frontal insertion (0: none; the pipeline
   // asks for 30, VolumeOptions::relax_points).
   int relax_iterations = 0;
