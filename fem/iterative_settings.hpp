@@ -24,8 +24,9 @@ struct IterativeSettings {
   // same GAMG; its own relative test on the transformed eigenvalues (no round-off floor as
   // LOBPCG's), and CG to a tighter tolerance than the eigen-residual it must resolve.
   bool krylov_schur_fallback = true;
-  // LOBPCG gives up when no wanted pair has converged after this many iterations (0: it runs to
-  // max_iterations). --solver auto sets it where the direct path can take over (modal_solver.cpp).
+  // LOBPCG gives up when no wanted pair has converged and its rate would need more than twice
+  // this many iterations (lobpcg.hpp; 0: it runs to max_iterations). --solver auto sets it where
+  // the direct path can take over (modal_solver.cpp).
   int stall_iterations = 0;
   double krylov_schur_tolerance = 1e-9;
   double cg_tolerance = 1e-11;

@@ -44,9 +44,9 @@ struct LobpcgOptions {
   // but slowly; a stall, or a tolerance below round-off, does not move.
   int progress_window = 20;
   int max_iterations_progressing = 200;
-  // Give up ("stalled") when no wanted pair has converged after this many iterations, or sooner,
-  // after a window, when the window's rate would need more than twice as many to converge them
-  // all (0: never).
+  // Give up ("stalled") while no wanted pair has converged, as soon as a window's rate would need
+  // more than twice this many iterations to converge them all, or after this many when no rate
+  // is known yet (0: never). A run whose rate ends it by twice this many goes on past it.
   int stall_iterations = 0;
   // Convergence of a pair (x B-normalized): |Ax - λBx| / (max(|λ|, floor) sqrt(mass_per_dof))
   // < tolerance (iterative_solver.cpp sets it from IterativeSettings, 1e-5).

@@ -29,8 +29,9 @@ namespace {
 // Largest relative residual |Kφ - λMφ| / (λ_top |Mφ|) the direct path reports (it reaches 1e-9
 // to 1e-13 at tolerance 1e-10).
 constexpr double kMaxDirectResidual = 1e-6;
-// --solver auto: LOBPCG iterations with no converged pair before the direct path takes over (it
-// converges in 20-40 where it does; solver.md §10).
+// --solver auto: the direct path takes over from a LOBPCG with no converged pair whose rate would
+// need more than twice this many iterations (it converges in 20-100 where it does; solver.md §10,
+// §20).
 constexpr int kAutoStallIterations = 60;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -597,8 +598,8 @@ ModalResult solve_modal(const MixedMesh& mesh, const ModalOptions& options) {
     if (path == SolverChoice::Iterative && automatic && direct_fits) {
       // LOBPCG + GAMG stalls on some parts (40mm_capot at order 2, 411k DOF: 0 of 2 modes after
       // 200 iterations, then Krylov-Schur past 10 min; the direct path takes 72 s, 5.4 GB).
-      // Where the factor fits, a LOBPCG that has converged nothing after kAutoStallIterations
-      // hands over to the direct path instead of to Krylov-Schur.
+      // Where the factor fits, a LOBPCG that has converged nothing and will not by twice
+      // kAutoStallIterations hands over to the direct path instead of to Krylov-Schur.
       ModalOptions first = options;
       first.iterative.krylov_schur_fallback = false;
       first.iterative.stall_iterations = kAutoStallIterations;
