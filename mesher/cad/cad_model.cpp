@@ -314,15 +314,10 @@ SurfaceType surface_type_of(const TopoDS_Face& f) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 // Whether a, grown by 1e-9 of its size, lies in b: an optimal box can stick out of the cheap one
 // by rounding (1.8e-15 mm on a 5 mm part, a plane's corner against its edges' points).
 bool inside(const Bnd_Box& a, const Bnd_Box& b) {
-  if (a.IsVoid()) return true;
-  if (b.IsVoid()) return false;
+  if (a.IsVoid() || b.IsVoid()) return false;  // no cheap box: the optimal one is made
   double a0[3], a1[3], b0[3], b1[3];
   a.Get(a0[0], a0[1], a0[2], a1[0], a1[1], a1[2]);
   b.Get(b0[0], b0[1], b0[2], b1[0], b1[1], b1[2]);
