@@ -29,6 +29,7 @@ nlohmann::json model_json(const std::string& file, const CadModel& cad) {
   j["num_faces"] = cad.num_faces();
   j["volume"] = cad.volume();
   j["area"] = cad.area();
+  cad.compute_face_boxes();
   j["bbox"] = box_json(cad.bbox());
   j["solids"] = nlohmann::json::array();
   for (int s = 1; s <= cad.num_solids(); ++s)
@@ -48,6 +49,7 @@ nlohmann::json model_json(const std::string& file, const CadModel& cad) {
 }
 
 void print_text(const std::string& file, const CadModel& cad) {
+  cad.compute_face_boxes();
   const BBox3 b = cad.bbox();
   std::printf("%s: %s, file unit %s (lengths below in mm, scale %g)\n", file.c_str(),
               cad.format().c_str(), cad.file_unit().c_str(), cad.unit_scale());

@@ -133,10 +133,25 @@ Vec3 CadModel::face_centroid(int f) const {
 }
 BBox3 CadModel::face_bbox(int f) const {
   const auto& d = at(impl_->faces, f, "face");
+  const auto k = static_cast<std::size_t>(f - 1);
+  {
+    std::lock_guard lock(impl_->bbox_mutex);
+    if (impl_->face_bbox[k]) return *impl_->face_bbox[k];
+  }
+  const BBox3 b = shape_bbox(d.face);  // outside the lock: faces on several threads at once
   std::lock_guard lock(impl_->bbox_mutex);
-  auto& b = impl_->face_bbox[static_cast<std::size_t>(f - 1)];
-  if (!b) b = shape_bbox(d.face);
-  return *b;
+  impl_->face_bbox[k] = b;
+  return b;
+}
+void CadModel::compute_face_boxes() const {
+  const int n = num_faces();
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int f = 1; f <= n; ++f) {
+    try {
+      face_bbox(f);
+    } catch (...) {  // face_bbox(f) asked again, on one thread, reports it
+    }
+  }
 }
 const std::vector<int>& CadModel::solids_of_face(int f) const {
   return at(impl_->faces, f, "face").solids;

@@ -586,6 +586,7 @@ double CadModel::solid_volume(int s) const {
 }
 BBox3 CadModel::solid_bbox(int s) const {
   const auto& d = impl_->solids.at(static_cast<std::size_t>(s - 1));
+  if (impl_->solids.size() == 1) return bbox();  // the same faces: the same box
   std::lock_guard lock(impl_->bbox_mutex);
   auto& b = impl_->solid_bbox[static_cast<std::size_t>(s - 1)];
   if (!b) b = shape_bbox(d.solid);

@@ -120,6 +120,9 @@ class CadModel {
   double face_area(int f) const;
   Vec3 face_centroid(int f) const;
   BBox3 face_bbox(int f) const;
+  // Every face's box made at once on all threads (each is a search on its surface; `hexfem info`
+  // lists them all: 0082_MVE's 663 faces).
+  void compute_face_boxes() const;
   const std::vector<int>& solids_of_face(int f) const;
 
   // --- solids and the whole part

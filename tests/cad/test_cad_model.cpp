@@ -204,6 +204,20 @@ TEST(CadModel, PartBoxIsTheUnionOfTheExactFaceBoxes) {
   }
 }
 
+// The faces' boxes made on all threads at once (hexfem info) are each face's own, bit for bit.
+TEST(CadModel, FaceBoxesOnAllThreadsAreTheFacesOwn) {
+  const CadModel parallel = CadModel::read(data("gehause_rohteil.stp"));
+  const CadModel serial = CadModel::read(data("gehause_rohteil.stp"));
+  parallel.compute_face_boxes();
+  for (int f = 1; f <= serial.num_faces(); ++f) {
+    const BBox3 a = parallel.face_bbox(f), b = serial.face_bbox(f);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(a.min[k], b.min[k]) << "face " << f;
+      EXPECT_EQ(a.max[k], b.max[k]) << "face " << f;
+    }
+  }
+}
+
 TEST(CadModel, BadInputGivesOneLineErrors) {
   expect_error(data("no_such_file.step"), "no such file");
   expect_error(data("open_box.igs"), "IGES surfaces do not close into a solid");
