@@ -83,6 +83,7 @@ std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::s
     if (spec.kind == FixSpec::Kind::Faces)
       faces.insert(faces.end(), spec.faces.begin(), spec.faces.end());
     if (spec.kind != FixSpec::Kind::Coordinates) continue;
+    cad.compute_face_boxes();
     for (int f = 1; f <= cad.num_faces(); ++f) {
       const BBox3 b = cad.face_bbox(f);
       const bool inside = std::all_of(spec.conditions.begin(), spec.conditions.end(),
