@@ -347,22 +347,26 @@ BBox3 shape_bbox(const TopoDS_Shape& shape) {
       cheap.emplace_back();
       BRepBndLib::Add(faces.back(), cheap.back(), false);
     }
-    std::vector<std::size_t> order;
-    for (int k = 0; k < 6; ++k) {
-      std::size_t best = faces.size();
-      double extreme = 0;
-      for (std::size_t f = 0; f < faces.size(); ++f) {
-        if (cheap[f].IsVoid()) continue;
-        double lo[3], hi[3];
-        cheap[f].Get(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    // The first face reaching furthest along -x, -y, -z, +x, +y, +z by its cheap box.
+    const std::size_t none = faces.size();
+    std::array<std::size_t, 6> best;
+    best.fill(none);
+    std::array<double, 6> extreme{};
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      if (cheap[f].IsVoid()) continue;
+      double lo[3], hi[3];
+      cheap[f].Get(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+      for (int k = 0; k < 6; ++k) {
         const double x = k < 3 ? -lo[k] : hi[k - 3];
-        if (best == faces.size() || x > extreme) {
-          best = f;
-          extreme = x;
+        if (best[k] == none || x > extreme[k]) {
+          best[k] = f;
+          extreme[k] = x;
         }
       }
-      if (best < faces.size()) order.push_back(best);
     }
+    std::vector<std::size_t> order;
+    for (const std::size_t f : best)
+      if (f != none) order.push_back(f);
     for (std::size_t f = 0; f < faces.size(); ++f) order.push_back(f);
     std::vector<char> done(faces.size(), 0);
     for (const std::size_t f : order) {
