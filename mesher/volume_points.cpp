@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <boost/geometry.hpp>
-#include <boost/geometry/index/rtree.hpp>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -12,23 +10,13 @@
 #include <utility>
 
 #include "mesher/mesh/error.hpp"
+#include "mesher/point_grid.hpp"
 #include "mesher/splitmix.hpp"
 #include "mesher/vec3.hpp"
 
 namespace hexfem {
 
 namespace {
-
-namespace bg = boost::geometry;
-namespace bgi = boost::geometry::index;
-using RPoint = bg::model::point<double, 3, bg::cs::cartesian>;
-using RBox = bg::model::box<RPoint>;
-using RValue = std::pair<RPoint, std::int32_t>;
-using RTree = bgi::rtree<RValue, bgi::quadratic<16>>;
-
-RPoint rp(const Vec3& p) {
-  return RPoint(p[0], p[1], p[2]);
-}
 
 // The axis-aligned box [lo, hi] around the cube of half-side r about c oriented by frame f.
 void frame_box(const Vec3& c, const Frame& f, double r, Vec3& lo, Vec3& hi) {
@@ -39,16 +27,39 @@ void frame_box(const Vec3& c, const Frame& f, double r, Vec3& lo, Vec3& hi) {
   }
 }
 
-// The cloud so far: positions and an R-tree over them. A candidate's exclusion region is the
-// cube of half-side k*h oriented by its frame; the R-tree is asked for its axis-aligned box.
+// The cloud's cell side for queries of boxes about box_per_size * s wide around points of size
+// s, the sizes drawn from `sizes`: the side, among a few fractions of the largest size, that
+// visits the fewest cells and points in all. A graded part (small sizes on thin blades, the
+// largest in a hub) wants small cells; a uniform one cells of about its size.
+double cell_side(const std::vector<double>& sizes, double box_per_size) {
+  const double largest = sizes.empty() ? 1 : *std::max_element(sizes.begin(), sizes.end());
+  const std::size_t step = std::max<std::size_t>(1, sizes.size() / 20000);
+  double best = largest, best_cost = std::numeric_limits<double>::infinity();
+  for (double f = 2; f > 0.05; f /= std::sqrt(2.0)) {
+    const double c = f * largest;
+    double cost = 0;
+    for (std::size_t i = 0; i < sizes.size(); i += step) {
+      const double s = sizes[i];
+      const double cells = std::pow(box_per_size * s / c + 1, 3);
+      cost += cells * (1 + std::pow(c / s, 3));  // a cell visited, and the points it holds
+    }
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = c;
+    }
+  }
+  return best;
+}
+
+// The cloud so far: positions in a grid of cells (point_grid.hpp). A candidate's exclusion
+// region is the cube of half-side k*h oriented by its frame; the grid is asked for its
+// axis-aligned box, and the points in that box are tested.
 class Cloud {
  public:
-  explicit Cloud(const std::vector<Vec3>& surface_nodes) : points_(surface_nodes) {
-    std::vector<RValue> values;
-    values.reserve(points_.size());
+  // cell: the grid's cell side (cell_side).
+  Cloud(const std::vector<Vec3>& points, double cell) : points_(points), grid_(box(points, cell)) {
     for (std::size_t i = 0; i < points_.size(); ++i)
-      values.emplace_back(rp(points_[i]), static_cast<std::int32_t>(i));
-    tree_ = RTree(values.begin(), values.end());
+      grid_.insert(static_cast<std::int32_t>(i), points_[i]);
   }
   // True when an existing point x has max_i |F_i . (x - c)| < r.
   bool excluded(const Vec3& c, const Frame& f, double r) const {
@@ -58,42 +69,68 @@ class Cloud {
   bool excluded_other(const Vec3& c, const Frame& f, double r, std::int32_t self) const {
     Vec3 lo, hi;
     frame_box(c, f, r, lo, hi);
-    for (auto it = tree_.qbegin(bgi::intersects(RBox(rp(lo), rp(hi)))); it != tree_.qend(); ++it) {
-      if (it->second == self) continue;
-      const Vec3& x = points_[it->second];
+    bool found = false;
+    for_each_in_box_until(lo, hi, [&](std::int32_t id) {
+      if (id == self) return false;
+      const Vec3& x = points_[id];
       const Vec3 d{x[0] - c[0], x[1] - c[1], x[2] - c[2]};
       bool inside = true;
       for (int i = 0; i < 3 && inside; ++i)
         inside = std::abs(f[i][0] * d[0] + f[i][1] * d[1] + f[i][2] * d[2]) < r;
-      if (inside) return true;
-    }
-    return false;
+      found = inside;
+      return inside;
+    });
+    return found;
   }
   // Point i moves to p.
   void move(std::int32_t i, const Vec3& p) {
-    tree_.remove(RValue(rp(points_[i]), i));
+    grid_.remove(i, points_[i]);
     points_[i] = p;
-    tree_.insert(RValue(rp(p), i));
+    grid_.insert(i, p);
   }
   std::int32_t add(const Vec3& p) {
     const auto id = static_cast<std::int32_t>(points_.size());
     points_.push_back(p);
-    tree_.insert(RValue(rp(p), id));
+    grid_.insert(id, p);
     return id;
   }
   const Vec3& point(std::int32_t i) const { return points_[i]; }
   const std::vector<Vec3>& points() const { return points_; }
   std::size_t size() const { return points_.size(); }
-  // Calls f(id) for every point in the axis-aligned box [lo, hi].
+  // Calls f(id) for every point in the closed axis-aligned box [lo, hi].
   template <class F>
   void for_each_in_box(const Vec3& lo, const Vec3& hi, F&& f) const {
-    for (auto it = tree_.qbegin(bgi::intersects(RBox(rp(lo), rp(hi)))); it != tree_.qend(); ++it)
-      f(it->second);
+    for_each_in_box_until(lo, hi, [&](std::int32_t id) {
+      f(id);
+      return false;
+    });
   }
 
  private:
+  // The same, until f returns true.
+  template <class F>
+  void for_each_in_box_until(const Vec3& lo, const Vec3& hi, F&& f) const {
+    grid_.for_each_near(lo, hi, [&](std::int32_t id) {
+      const Vec3& x = points_[id];
+      if (x[0] < lo[0] || x[0] > hi[0] || x[1] < lo[1] || x[1] > hi[1] || x[2] < lo[2] ||
+          x[2] > hi[2])
+        return false;
+      return f(id);
+    });
+  }
+  // The grid over the points' box (the interior points fall inside the surface's).
+  static PointGrid box(const std::vector<Vec3>& points, double cell) {
+    Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+    if (!points.empty()) lo = hi = points[0];
+    for (const Vec3& p : points)
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], p[a]);
+        hi[a] = std::max(hi[a], p[a]);
+      }
+    return PointGrid(lo, hi, cell, std::size_t{1} << 23);
+  }
   std::vector<Vec3> points_;
-  RTree tree_;
+  PointGrid grid_;
 };
 
 // Lattice relaxation of the interior points (--relax-points N). Each interior point finds its
@@ -113,7 +150,7 @@ std::vector<std::array<std::int32_t, 6>> lattice_neighbours(const std::vector<Ve
                                                             const std::vector<Frame>& frame,
                                                             const std::vector<double>& size,
                                                             double tol) {
-  const Cloud cloud(x);
+  const Cloud cloud(x, cell_side(size, 2 * std::sqrt(3.0) * (1 + tol)));
   const std::size_t ni = x.size() - ns;
   std::vector<std::array<std::int32_t, 6>> nb(ni);
   const auto nni = static_cast<std::ptrdiff_t>(ni);
@@ -226,7 +263,7 @@ std::size_t keep_valid_moves(std::vector<Vec3>& cur, std::size_t ns,
   // are checked again, in the cloud with those points moved back (a million points: 0.6 s less
   // than checking every point in a new cloud each round; the same points go back).
   for (std::ptrdiff_t i = 0; i < nni; ++i) cur[ns + i] = moved[i] ? cur[ns + i] : out.points[i];
-  Cloud cloud(cur);
+  Cloud cloud(cur, cell_side(size, std::sqrt(3.0) * k));
   double reach = 0;  // an exclusion cube's half-diagonal, the largest
   for (std::size_t i = 0; i < ni; ++i) reach = std::max(reach, 0.5 * k * size[ns + i]);
   reach *= std::sqrt(3.0);
@@ -375,7 +412,6 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
                      const SmoothFrameField* smooth, const CoherentWalls* coherent,
                      int relax_iterations, const LpCvtOptions& lpcvt) {
   const std::size_t ns = surface.mesh.nodes.size();
-  Cloud cloud(surface.mesh.nodes);
   // Per cloud point: its size, its frame, and its solid (0 = surface).
   std::vector<double> size(ns);
   std::vector<std::int32_t> solid(ns, 0);
@@ -384,6 +420,7 @@ VolumePoints frontal(const SurfaceMesh& surface, const FrameField3D& field,
     size[v] = field.vertex_size(static_cast<std::int32_t>(v));
     frame[v] = field.vertex_frame(static_cast<std::int32_t>(v));
   }
+  Cloud cloud(surface.mesh.nodes, cell_side(size, 2 * std::sqrt(3.0) * k));
   // The nearest surface vertex is needed only for the paper's frame rule or for the size.
   const bool need_nearest_frame = !inherit_frame && !smooth;
   // The FIFO starts from the leading surface nodes alone when asked, and takes the others when
@@ -518,7 +555,10 @@ VolumePoints random_points(const SurfaceMesh& surface, const FrameField3D& field
       lo[a] = std::min(lo[a], p[a]);
       hi[a] = std::max(hi[a], p[a]);
     }
-  Cloud cloud(surface.mesh.nodes);
+  std::vector<double> sizes(surface.mesh.nodes.size());
+  for (std::size_t v = 0; v < sizes.size(); ++v)
+    sizes[v] = field.vertex_size(static_cast<std::int32_t>(v));
+  Cloud cloud(surface.mesh.nodes, cell_side(sizes, 2 * std::sqrt(3.0) * k));
   SplitMix rng{seed};
   VolumePoints out;
   std::size_t misses = 0;
