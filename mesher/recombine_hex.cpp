@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <limits>
 
 #include "mesher/mesh/element_topology.hpp"
@@ -192,6 +193,26 @@ SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions
       });
 }
 
+SortedRuns<Candidate> enumerate_filled_hexes(const TetTopology& topo, const HexOptions& options,
+                                             const QualityBand& band, std::size_t* found) {
+  const double corner_min = corner_floor(options, band);
+  std::atomic<std::size_t> count{0};
+  SortedRuns<Candidate> runs = find_sorted_runs<Candidate>(
+      static_cast<std::int32_t>(topo.num_vertices()),
+      [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
+        thread_local std::vector<HexCorners> hexes;
+        hexes.clear();
+        hexes_from(topo, v, corner_min, scratch, nullptr, band.from, band.below, hexes);
+        if (!hexes.empty()) count.fetch_add(hexes.size(), std::memory_order_relaxed);
+        for (const HexCorners& h : hexes) {
+          Candidate c = h.candidate();
+          if (fills_element(topo, c, nullptr, options.fill)) out.push_back(c);
+        }
+      });
+  if (found) *found = count.load();
+  return runs;
+}
+
 std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOptions& options) {
   const SortedRuns<HexCorners> runs = enumerate_hexes(topo, options);
   std::vector<Candidate> list;
@@ -286,11 +307,30 @@ std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
   for (std::size_t b = 0; b <= options.quality_bands.size(); ++b) {
     QualityBand band{-std::numeric_limits<float>::infinity(), below};
     if (b < options.quality_bands.size()) band.from = options.quality_bands[b];
-    const SortedRuns<HexCorners> cands =
-        enumerate_hexes(s.topo, options, band, b == 0 ? nullptr : &s.used);
+    below = band.from;
+    if (b == 0) {
+      // The first band has most of the hexes (ANC101 at a million vertices: 1.00M of 1.25M):
+      // fill-tested where they are found (enumerate_filled_hexes), twice as fast as in the
+      // placement's best-first order, which reads the tets all over the part. The same hexes
+      // are placed: the placement then only checks that their tets are free.
+      std::size_t found = 0;
+      const SortedRuns<Candidate> cands = enumerate_filled_hexes(s.topo, options, band, &found);
+      if (candidates) *candidates += found;
+      placed += place_greedily(s, cands, index);
+      if (kept)
+        for (const auto& run : cands.runs) {
+          std::vector<HexCorners> top;
+          for (const Candidate& c : run) {
+            if (!(c.quality >= kept_from)) break;
+            top.push_back({c.quality, c.nodes});
+          }
+          if (!top.empty()) kept->runs.push_back(std::move(top));
+        }
+      continue;
+    }
+    const SortedRuns<HexCorners> cands = enumerate_hexes(s.topo, options, band, &s.used);
     if (candidates) *candidates += cands.size();
     placed += place_greedily(s, cands, index);
-    below = band.from;
     if (kept)
       for (const auto& run : cands.runs) {
         auto end = std::partition_point(

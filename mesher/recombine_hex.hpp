@@ -41,6 +41,12 @@ SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions
                                        const QualityBand& band = {},
                                        const std::vector<char>* used = nullptr);
 
+// The hexes of enumerate_hexes (without `used`) that tets fill whether free or not, with their
+// tets, fill-tested where each is found. *found: how many the enumeration found.
+SortedRuns<Candidate> enumerate_filled_hexes(const TetTopology& topo, const HexOptions& options,
+                                             const QualityBand& band = {},
+                                             std::size_t* found = nullptr);
+
 // Every candidate hex as one list, best first (for studies of the selection: the pipeline places
 // them band by band instead).
 std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOptions& options);

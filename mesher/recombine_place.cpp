@@ -152,22 +152,49 @@ std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
       index);
 }
 
-std::size_t place_greedily(RecombineState& s, const SortedRuns<HexCorners>& cands,
-                           ConformityIndex& index) {
-  RunMerger<HexCorners> merger(cands);
+namespace {
+
+int corners(const HexCorners&) {
+  return 8;
+}
+int corners(const Candidate& c) {
+  return num_nodes(c.kind);
+}
+Candidate as_candidate(const HexCorners& h) {
+  return h.candidate();
+}
+const Candidate& as_candidate(const Candidate& c) {
+  return c;
+}
+
+template <class T>
+std::size_t place_runs(RecombineState& s, const SortedRuns<T>& cands, ConformityIndex& index) {
+  RunMerger<T> merger(cands);
   return place_greedily(
       s,
       [&](std::vector<Candidate>& chunk, const std::vector<std::int32_t>& free_around) {
-        // Most hexes late in the order have a corner with no free tet left: dropped here,
+        // Most candidates late in the order have a corner with no free tet left: dropped here,
         // before they are copied and fill-tested.
         while (chunk.size() < kChunk) {
-          const HexCorners* h = merger.next();
-          if (!h) return;
-          if (corners_have_free_tets(free_around, h->nodes.data(), 8))
-            chunk.push_back(h->candidate());
+          const T* c = merger.next();
+          if (!c) return;
+          if (corners_have_free_tets(free_around, c->nodes.data(), corners(*c)))
+            chunk.push_back(as_candidate(*c));
         }
       },
       index);
+}
+
+}  // namespace
+
+std::size_t place_greedily(RecombineState& s, const SortedRuns<HexCorners>& cands,
+                           ConformityIndex& index) {
+  return place_runs(s, cands, index);
+}
+
+std::size_t place_greedily(RecombineState& s, const SortedRuns<Candidate>& cands,
+                           ConformityIndex& index) {
+  return place_runs(s, cands, index);
 }
 
 }  // namespace hexfem

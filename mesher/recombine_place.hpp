@@ -95,5 +95,8 @@ std::size_t place_greedily(RecombineState& s, std::vector<Candidate>& cands,
 // The same on the hex enumeration's runs, merged on the way.
 std::size_t place_greedily(RecombineState& s, const SortedRuns<HexCorners>& cands,
                            ConformityIndex& index);
+// The same on runs of candidates whose tets are known.
+std::size_t place_greedily(RecombineState& s, const SortedRuns<Candidate>& cands,
+                           ConformityIndex& index);
 
 }  // namespace hexfem
