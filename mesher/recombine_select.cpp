@@ -205,6 +205,17 @@ SwapReport improve_by_swaps(RecombineState& s, const std::vector<Candidate>& poo
   p.owner.assign(s.used.size(), -1);
   p.at.resize(topo.mesh().nodes.size());
   const std::size_t n0 = s.elements.size();
+  {
+    // Each vertex's list sized once (a million vertices: growing them one element at a time was
+    // most of this setup), with room for two swapped in.
+    std::vector<std::int32_t> count(p.at.size(), 2);
+    for (const Candidate& e : s.elements)
+      for (int i = 0; i < num_nodes(e.kind); ++i) ++count[e.nodes[i]];
+    for (std::size_t v = 0; v < p.at.size(); ++v) p.at[v].reserve(count[v]);
+    p.elems.reserve(n0 + n0 / 8);
+    p.alive.reserve(n0 + n0 / 8);
+    p.pool_index.reserve(n0 + n0 / 8);
+  }
   for (const Candidate& e : s.elements) p.add(e, -1);
 
   rep.fillable = pool.size();
