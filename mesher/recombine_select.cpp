@@ -125,47 +125,69 @@ std::int32_t across(const RecombineState& s, std::int32_t t, int f) {
   return s.topo.tet_across(t, T[f], T[(f + 1) % 4], T[(f + 2) % 4]);
 }
 
+// The free tets (used[t] == 0) in increasing order, and the tets across their four faces (-1:
+// none), found on all threads: each is a walk around a star, most of the search mask's time.
+struct FreeTets {
+  std::vector<std::int32_t> tets;
+  std::vector<std::array<std::int32_t, 4>> across;
+  explicit FreeTets(const RecombineState& s) {
+    const auto nt = static_cast<std::int32_t>(s.used.size());
+    for (std::int32_t t = 0; t < nt; ++t)
+      if (!s.used[t]) tets.push_back(t);
+    across.resize(tets.size());
+    const auto n = static_cast<std::ptrdiff_t>(tets.size());
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (std::ptrdiff_t i = 0; i < n; ++i)
+      for (int f = 0; f < 4; ++f) across[i][f] = hexfem::across(s, tets[i], f);
+  }
+};
+
 // The free tets whose component of free tets (joined through shared triangles) holds one that is
-// not a sliver flat on a quad face of an element next to it. Most free tets at a million
-// vertices are such slivers between two hexes' faces, in components of their own; left out, they
-// halve the tets wide_swap_search_mask opens.
+// not a sliver flat on a quad face of an element next to it, as flags on free.tets. Most free
+// tets at a million vertices are such slivers between two hexes' faces, in components of their
+// own; left out, they halve the tets wide_swap_search_mask opens.
 std::vector<char> free_tets_with_a_solid_neighbourhood(const RecombineState& s,
-                                                       const std::vector<std::int32_t>& owner) {
+                                                       const std::vector<std::int32_t>& owner,
+                                                       const FreeTets& free) {
   const auto& T = s.topo.mesh().tets;
-  const auto nt = static_cast<std::int32_t>(T.size());
-  auto sliver = [&](std::int32_t t) {
-    for (int f = 0; f < 4; ++f) {
-      const std::int32_t n = across(s, t, f);
-      if (n >= 0 && owner[n] >= 0) {
-        const Candidate& e = s.elements[owner[n]];
-        if (is_face_sliver(e.kind, e.nodes.data(), T[t])) return true;
+  const auto n = static_cast<std::int32_t>(free.tets.size());
+  std::vector<char> sliver(free.tets.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int32_t i = 0; i < n; ++i)
+    for (std::int32_t t : free.across[i])
+      if (t >= 0 && owner[t] >= 0) {
+        const Candidate& e = s.elements[owner[t]];
+        if (is_face_sliver(e.kind, e.nodes.data(), T[free.tets[i]])) {
+          sliver[i] = 1;
+          break;
+        }
       }
-    }
-    return false;
-  };
-  std::vector<char> keep(T.size(), 0), seen(T.size(), 0);
+  // Each free tet's place in free.tets, to walk the components.
+  std::vector<std::int32_t> index(T.size(), -1);
+  for (std::int32_t i = 0; i < n; ++i) index[free.tets[i]] = i;
+  std::vector<char> keep(free.tets.size(), 0), seen(free.tets.size(), 0);
   std::vector<std::int32_t> stack, component;
-  for (std::int32_t t0 = 0; t0 < nt; ++t0) {
-    if (s.used[t0] || seen[t0]) continue;
+  for (std::int32_t i0 = 0; i0 < n; ++i0) {
+    if (seen[i0]) continue;
     bool solid = false;
     component.clear();
-    stack.assign(1, t0);
-    seen[t0] = 1;
+    stack.assign(1, i0);
+    seen[i0] = 1;
     while (!stack.empty()) {
-      const std::int32_t t = stack.back();
+      const std::int32_t i = stack.back();
       stack.pop_back();
-      component.push_back(t);
-      solid = solid || !sliver(t);
-      for (int f = 0; f < 4; ++f) {
-        const std::int32_t n = across(s, t, f);
-        if (n >= 0 && !s.used[n] && !seen[n]) {
-          seen[n] = 1;
-          stack.push_back(n);
+      component.push_back(i);
+      solid = solid || !sliver[i];
+      for (std::int32_t t : free.across[i]) {
+        const std::int32_t j = t >= 0 ? index[t] : -1;
+        if (j >= 0 && !seen[j]) {
+          seen[j] = 1;
+          stack.push_back(j);
         }
       }
     }
     if (solid)
-      for (std::int32_t t : component) keep[t] = 1;
+      for (std::int32_t i : component) keep[i] = 1;
   }
   return keep;
 }
@@ -173,16 +195,14 @@ std::vector<char> free_tets_with_a_solid_neighbourhood(const RecombineState& s,
 }  // namespace
 
 std::vector<char> wide_swap_search_mask(const RecombineState& s) {
-  const auto nt = static_cast<std::int32_t>(s.used.size());
   const std::vector<std::int32_t> owner = s.element_of_tets();
-  const std::vector<char> from = free_tets_with_a_solid_neighbourhood(s, owner);
+  const FreeTets free(s);
+  const std::vector<char> from = free_tets_with_a_solid_neighbourhood(s, owner, free);
   std::vector<char> open(s.elements.size(), 0);
-  for (std::int32_t t = 0; t < nt; ++t) {
-    if (!from[t]) continue;
-    for (int f = 0; f < 4; ++f) {
-      const std::int32_t n = across(s, t, f);
+  for (std::size_t i = 0; i < free.tets.size(); ++i) {
+    if (!from[i]) continue;
+    for (std::int32_t n : free.across[i])
       if (n >= 0 && owner[n] >= 0) open[owner[n]] = 1;
-    }
   }
   std::vector<char> mask = s.used;
   for (std::size_t e = 0; e < s.elements.size(); ++e)
