@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "mesher/mesh/error.hpp"
+#include "mesher/point_grid.hpp"
 
 namespace hexfem {
 
@@ -17,6 +18,16 @@ namespace bgi = boost::geometry::index;
 using RPoint = bg::model::point<double, 3, bg::cs::cartesian>;
 using RValue = std::pair<RPoint, std::int32_t>;
 
+namespace {
+
+// How far from a vertex of size s the size stays below the largest, (largest - s) / grading, with
+// some slack: at_max_size then decides with size_at's own arithmetic.
+double lowering_reach(double s, double largest) {
+  return (largest - s) / FrameField3D::kSizeGrading * (1 + 1e-6) + 1e-12 * largest;
+}
+
+}  // namespace
+
 struct FrameField3D::Index {
   bgi::rtree<RValue, bgi::rstar<16>> tree;
   bgi::rtree<RValue, bgi::rstar<16>> smaller;  // the vertices whose size is below the largest
@@ -24,45 +35,17 @@ struct FrameField3D::Index {
   // A grid of cells over the surface's box: far[c] when no smaller vertex lies within reach of
   // any point of cell c (L-infinity), so that at_max_size is true there with no query. Most of a
   // part is such cells; the frontal insertion asks about ten million times.
-  Vec3 lo{0, 0, 0};
-  double inv_side = 0;
-  std::int64_t n[3] = {0, 0, 0};
+  CellLayout cells;
   std::vector<char> far;
-  // The cell of p, or -1 outside the grid.
-  std::int64_t cell(const Vec3& p) const {
-    std::int64_t c = 0;
-    for (int a = 2; a >= 0; --a) {
-      const double u = (p[a] - lo[a]) * inv_side;
-      if (!(u >= 0 && u < static_cast<double>(n[a]))) return -1;
-      c = c * n[a] + static_cast<std::int64_t>(u);
-    }
-    return c;
-  }
   void build_far(const std::vector<Vec3>& nodes, const std::vector<double>& sizes, double max_size);
 };
 
 void FrameField3D::Index::build_far(const std::vector<Vec3>& nodes,
                                     const std::vector<double>& sizes, double max_size) {
-  Vec3 hi = nodes[0];
-  lo = nodes[0];
-  for (const Vec3& p : nodes)
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], p[a]);
-      hi[a] = std::max(hi[a], p[a]);
-    }
   // Cells of about the largest size, at most 2^22 of them.
-  double side = max_size;
-  for (;;) {
-    std::int64_t total = 1;
-    for (int a = 0; a < 3; ++a) {
-      n[a] = static_cast<std::int64_t>(std::min((hi[a] - lo[a]) / side, 1e6)) + 1;
-      total *= n[a];
-    }
-    if (total <= (std::int64_t{1} << 22)) break;
-    side *= 1.25;
-  }
-  inv_side = 1 / side;
-  const std::size_t total = static_cast<std::size_t>(n[0] * n[1] * n[2]);
+  cells = CellLayout::around(nodes, max_size, std::size_t{1} << 22);
+  const std::int64_t* n = cells.n;
+  const std::size_t total = cells.size();
   // A vertex v of size s_v lowers the size only within r_v = (max - s_v) / kSizeGrading of it.
   // A point of cell c and v in cell j are more than r_v apart along axis a when
   // (|c_a - j_a| - 1) side > r_v: so v reaches only the cells within m_v = floor(r_v / side) + 1
@@ -71,10 +54,10 @@ void FrameField3D::Index::build_far(const std::vector<Vec3>& nodes,
   std::vector<std::vector<std::size_t>> by_m;
   for (std::size_t v = 0; v < nodes.size(); ++v) {
     if (!(sizes[v] < max_size)) continue;
-    const std::int64_t c = cell(nodes[v]);
+    const std::int64_t c = cells.cell_inside(nodes[v]);
     if (c < 0) continue;
-    const double r = (max_size - sizes[v]) / kSizeGrading * (1 + 1e-6) + 1e-12 * max_size;
-    const auto m = static_cast<std::size_t>(std::min(r * inv_side, 1e6)) + 1;
+    const double r = lowering_reach(sizes[v], max_size);
+    const auto m = static_cast<std::size_t>(std::min(r * cells.inv_side, 1e6)) + 1;
     if (by_m.size() <= m) by_m.resize(m + 1);
     by_m[m].push_back(static_cast<std::size_t>(c));
   }
@@ -101,9 +84,8 @@ void FrameField3D::Index::build_far(const std::vector<Vec3>& nodes,
     }
     for (std::size_t c = 0; c < total; ++c) any_near[c] |= near[c];
   }
-  near.swap(any_near);
   far.resize(total);
-  for (std::size_t c = 0; c < total; ++c) far[c] = !near[c];
+  for (std::size_t c = 0; c < total; ++c) far[c] = !any_near[c];
 }
 
 namespace {
@@ -160,14 +142,13 @@ FrameField3D::FrameField3D(const SurfaceMesh& surface) : index_(std::make_unique
       min_size = std::min(min_size, sizes_[value.second]);
     }
   index_->smaller = bgi::rtree<RValue, bgi::rstar<16>>(smaller.begin(), smaller.end());
-  // With some slack: at_max_size then decides with size_at's own arithmetic.
-  index_->reach = (max_size_ - min_size) / kSizeGrading * (1 + 1e-6) + 1e-12 * max_size_;
+  index_->reach = lowering_reach(min_size, max_size_);
   index_->build_far(nodes_, sizes_, max_size_);
 }
 
 bool FrameField3D::at_max_size(const Vec3& p) const {
   if (index_->smaller.empty()) return true;
-  const std::int64_t c = index_->cell(p);
+  const std::int64_t c = index_->cells.cell_inside(p);
   if (c >= 0 && index_->far[static_cast<std::size_t>(c)]) return true;
   const double r = index_->reach;
   const bg::model::box<RPoint> box(RPoint(p[0] - r, p[1] - r, p[2] - r),

@@ -181,6 +181,21 @@ bool has_free_tet(const TetTopology& topo, const HexCorners& h, const FreeStars&
   return false;
 }
 
+// The hexes of each run at or above quality `from` (a prefix: runs are best first), as corners,
+// added to kept as runs of their own.
+template <class T>
+void keep_from(const SortedRuns<T>& runs, float from, SortedRuns<HexCorners>& kept) {
+  for (const auto& run : runs.runs) {
+    const auto end =
+        std::partition_point(run.begin(), run.end(), [&](const T& h) { return h.quality >= from; });
+    if (end == run.begin()) continue;
+    std::vector<HexCorners> top;
+    top.reserve(static_cast<std::size_t>(end - run.begin()));
+    for (auto it = run.begin(); it != end; ++it) top.push_back({it->quality, it->nodes});
+    kept.runs.push_back(std::move(top));
+  }
+}
+
 }  // namespace
 
 SortedRuns<HexCorners> enumerate_hexes(const TetTopology& topo, const HexOptions& options,
@@ -224,18 +239,7 @@ std::vector<Candidate> hex_candidate_list(const TetTopology& topo, const HexOpti
 
 std::vector<Candidate> fillable_hex_list(const TetTopology& topo, const HexOptions& options,
                                          const QualityBand& band) {
-  const double corner_min = corner_floor(options, band);
-  return collect_candidates(static_cast<std::int32_t>(topo.num_vertices()),
-                            [&](std::int32_t v, FillScratch& scratch, std::vector<Candidate>& out) {
-                              thread_local std::vector<HexCorners> found;
-                              found.clear();
-                              hexes_from(topo, v, corner_min, scratch, nullptr, band.from,
-                                         band.below, found);
-                              for (const HexCorners& h : found) {
-                                Candidate c = h.candidate();
-                                if (fills_element(topo, c, nullptr, options.fill)) out.push_back(c);
-                              }
-                            });
+  return merge_runs(enumerate_filled_hexes(topo, options, band));
 }
 
 std::vector<Candidate> hexes_holding_free_tets(const TetTopology& topo, const HexOptions& options,
@@ -317,26 +321,13 @@ std::size_t place_hexes_greedily(RecombineState& s, const HexOptions& options,
       const SortedRuns<Candidate> cands = enumerate_filled_hexes(s.topo, options, band, &found);
       if (candidates) *candidates += found;
       placed += place_greedily(s, cands, index);
-      if (kept)
-        for (const auto& run : cands.runs) {
-          std::vector<HexCorners> top;
-          for (const Candidate& c : run) {
-            if (!(c.quality >= kept_from)) break;
-            top.push_back({c.quality, c.nodes});
-          }
-          if (!top.empty()) kept->runs.push_back(std::move(top));
-        }
+      if (kept) keep_from(cands, kept_from, *kept);
       continue;
     }
     const SortedRuns<HexCorners> cands = enumerate_hexes(s.topo, options, band, &s.used);
     if (candidates) *candidates += cands.size();
     placed += place_greedily(s, cands, index);
-    if (kept)
-      for (const auto& run : cands.runs) {
-        auto end = std::partition_point(
-            run.begin(), run.end(), [&](const HexCorners& h) { return h.quality >= kept_from; });
-        if (end != run.begin()) kept->runs.emplace_back(run.begin(), end);
-      }
+    if (kept) keep_from(cands, kept_from, *kept);
   }
   return placed;
 }

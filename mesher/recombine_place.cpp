@@ -51,8 +51,11 @@ template SortedRuns<Candidate> find_sorted_runs(std::int32_t, const FindInto<Can
 template SortedRuns<HexCorners> find_sorted_runs(std::int32_t, const FindInto<HexCorners>&);
 
 std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find) {
-  SortedRuns<Candidate> r = find_sorted_runs<Candidate>(num_vertices, find);
-  auto& runs = r.runs;
+  return merge_runs(find_sorted_runs<Candidate>(num_vertices, find));
+}
+
+std::vector<Candidate> merge_runs(const SortedRuns<Candidate>& r) {
+  const auto& runs = r.runs;
   std::vector<Candidate> all;
   if (runs.size() == 2) {
     // Two runs (two threads): merged on all threads.

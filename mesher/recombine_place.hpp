@@ -77,6 +77,8 @@ class RunMerger {
 // sorted best first (the sort makes the result independent of the thread schedule).
 using FindCandidates = FindInto<Candidate>;
 std::vector<Candidate> collect_candidates(std::int32_t num_vertices, const FindCandidates& find);
+// The runs merged into one list, best first.
+std::vector<Candidate> merge_runs(const SortedRuns<Candidate>& runs);
 
 // Greedy best-first placement: keeps each candidate, in the order given, that tets fill
 // (fills_element, for candidates whose tets are not known yet), whose tets are all free and

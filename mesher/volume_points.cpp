@@ -57,7 +57,9 @@ double cell_side(const std::vector<double>& sizes, double box_per_size) {
 class Cloud {
  public:
   // cell: the grid's cell side (cell_side).
-  Cloud(const std::vector<Vec3>& points, double cell) : points_(points), grid_(box(points, cell)) {
+  // The interior points fall inside the surface's box: a grid over the points given.
+  Cloud(const std::vector<Vec3>& points, double cell)
+      : points_(points), grid_(CellLayout::around(points, cell, std::size_t{1} << 23)) {
     for (std::size_t i = 0; i < points_.size(); ++i)
       grid_.insert(static_cast<std::int32_t>(i), points_[i]);
   }
@@ -117,17 +119,6 @@ class Cloud {
         return false;
       return f(id);
     });
-  }
-  // The grid over the points' box (the interior points fall inside the surface's).
-  static PointGrid box(const std::vector<Vec3>& points, double cell) {
-    Vec3 lo{0, 0, 0}, hi{0, 0, 0};
-    if (!points.empty()) lo = hi = points[0];
-    for (const Vec3& p : points)
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(lo[a], p[a]);
-        hi[a] = std::max(hi[a], p[a]);
-      }
-    return PointGrid(lo, hi, cell, std::size_t{1} << 23);
   }
   std::vector<Vec3> points_;
   PointGrid grid_;

@@ -20,7 +20,7 @@ TEST(PointGrid, BoxQueriesFindWhatAScanFinds) {
   for (int i = 0; i < 3000; ++i)
     x.push_back(i % 10 ? Vec3{in(0, 10), in(0, 10), in(0, 10)}
                        : Vec3{in(-3, 13), in(-3, 13), in(-3, 13)});
-  PointGrid grid({0, 0, 0}, {10, 10, 10}, 0.7, 1 << 20);
+  PointGrid grid(CellLayout({0, 0, 0}, {10, 10, 10}, 0.7, 1 << 20));
   for (std::size_t i = 0; i < x.size(); ++i) grid.insert(static_cast<std::int32_t>(i), x[i]);
   // A third of them move.
   for (std::size_t i = 0; i < x.size(); i += 3) {
@@ -65,7 +65,7 @@ TEST(PointGrid, BoxQueriesFindWhatAScanFinds) {
 
 // A box far larger than the cap allows in cells of the asked side: larger cells, same answers.
 TEST(PointGrid, ACapOnTheCellsMakesThemLarger) {
-  PointGrid grid({0, 0, 0}, {1000, 1000, 1000}, 0.01, 1000);
+  PointGrid grid(CellLayout({0, 0, 0}, {1000, 1000, 1000}, 0.01, 1000));
   grid.insert(0, {999, 999, 999});
   grid.insert(1, {0.5, 0.5, 0.5});
   std::vector<std::int32_t> got;
