@@ -16,31 +16,31 @@ TriKey tri_key(std::int32_t a, std::int32_t b, std::int32_t c) {
 
 TetTopology::TetTopology(const TetMesh& tets, const SurfaceMesh& surface) : mesh_(tets) {
   const std::size_t nv = tets.nodes.size(), nt = tets.tets.size();
-  // Star: counting sort by vertex keeps tets in increasing order around each vertex.
-  star_off_.assign(nv + 1, 0);
-  for (const auto& T : tets.tets)
-    for (std::int32_t v : T) ++star_off_[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) star_off_[v + 1] += star_off_[v];
-  star_.resize(star_off_[nv]);
-  {
-    std::vector<std::int32_t> fill(star_off_.begin(), star_off_.end() - 1);
-    for (std::size_t t = 0; t < nt; ++t)
-      for (std::int32_t v : tets.tets[t]) star_[fill[v]++] = static_cast<std::int32_t>(t);
-  }
-  upper_off_.assign(nv + 1, 0);
-  for (const auto& T : tets.tets) ++upper_off_[*std::min_element(T.begin(), T.end()) + 1];
-  for (std::size_t v = 0; v < nv; ++v) upper_off_[v + 1] += upper_off_[v];
+  // Star: a counting sort by vertex keeps tets in increasing order around each vertex.
+  star_.resize(4 * nt);
+  parallel_bucket_items(
+      nt, nv,
+      [&](std::size_t t, auto&& f) {
+        for (std::int32_t v : tets.tets[t]) f(v);
+      },
+      star_off_,
+      [&](std::size_t i, std::size_t t, std::int32_t) { star_[i] = static_cast<std::int32_t>(t); });
+  // Upper: each tet at its lowest vertex, its other three in cyclic order from it.
   upper_.resize(nt);
-  {
-    std::vector<std::int32_t> fill(upper_off_.begin(), upper_off_.end() - 1);
-    for (std::size_t t = 0; t < nt; ++t) {
-      const auto& T = tets.tets[t];
-      const int lo = static_cast<int>(std::min_element(T.begin(), T.end()) - T.begin());
-      UpperTet& u = upper_[fill[T[lo]]++];
-      u.tet = static_cast<std::int32_t>(t);
-      for (int k = 1; k < 4; ++k) u.v[k - 1] = T[(lo + k) % 4];
-    }
-  }
+  parallel_bucket_items(
+      nt, nv,
+      [&](std::size_t t, auto&& f) {
+        const auto& T = tets.tets[t];
+        f(*std::min_element(T.begin(), T.end()));
+      },
+      upper_off_,
+      [&](std::size_t i, std::size_t t, std::int32_t) {
+        const auto& T = tets.tets[t];
+        const int lo = static_cast<int>(std::min_element(T.begin(), T.end()) - T.begin());
+        UpperTet& u = upper_[i];
+        u.tet = static_cast<std::int32_t>(t);
+        for (int k = 1; k < 4; ++k) u.v[k - 1] = T[(lo + k) % 4];
+      });
   // Neighbours: the other vertices of the star, sorted and unique, made on all threads and
   // joined in vertex order (no buffer of three times the star: 300 MB of fresh pages on a
   // million-vertex part).
@@ -48,6 +48,13 @@ TetTopology::TetTopology(const TetMesh& tets, const SurfaceMesh& surface) : mesh
   const auto add_neighbours = [&](std::size_t v, std::vector<std::int32_t>& out) {
     const std::size_t begin = out.size();
     const auto self = static_cast<std::int32_t>(v);
+    // The stars' tets lie all over memory: those of the vertex after next are asked for now,
+    // so that their misses overlap this vertex's work.
+    if (v + 2 < nv) {
+      const auto ahead = static_cast<std::int32_t>(v + 2);
+      for (auto it = star_begin(ahead); it != star_end(ahead); ++it)
+        __builtin_prefetch(&tets.tets[*it]);
+    }
     // Each neighbour turns up in several tets of the star: kept once by a small hash table on
     // the stack (sorting all of them was most of the work), then the few left are sorted.
     constexpr std::size_t kSlots = 256;

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "mesher/mesh/error.hpp"
+#include "mesher/open_hash.hpp"
 
 namespace hexfem {
 
@@ -138,6 +140,86 @@ bool write_all(int fd, const void* data, std::size_t n) {
     n -= static_cast<std::size_t>(w);
   }
   return true;
+}
+
+struct TriHash {
+  std::size_t operator()(const Tri& t) const {
+    return static_cast<std::size_t>(
+        mix64(static_cast<std::uint64_t>(static_cast<std::uint32_t>(t[0])) << 32 |
+              static_cast<std::uint32_t>(t[1])) ^
+        mix64(static_cast<std::uint32_t>(t[2])));
+  }
+};
+
+// The root of x's set in a union-find forest whose roots are their sets' least members,
+// halving the path on the way (other threads may link or halve at the same time: every
+// parent stays a member of the same set, never above its child).
+std::int32_t find_root(std::vector<std::atomic<std::int32_t>>& parent, std::int32_t x) {
+  for (;;) {
+    std::int32_t p = parent[x].load(std::memory_order_relaxed);
+    if (p == x) return x;
+    const std::int32_t g = parent[p].load(std::memory_order_relaxed);
+    if (g != p) parent[x].compare_exchange_weak(p, g, std::memory_order_relaxed);
+    x = g;
+  }
+}
+
+// Joins the sets of a and b, the larger root under the smaller: the roots that remain are the
+// least tet of each set whatever the threads' order, so the regions do not depend on it.
+void unite(std::vector<std::atomic<std::int32_t>>& parent, std::int32_t a, std::int32_t b) {
+  for (;;) {
+    a = find_root(parent, a);
+    b = find_root(parent, b);
+    if (a == b) return;
+    if (a < b) std::swap(a, b);
+    std::int32_t expected = a;
+    if (parent[a].compare_exchange_strong(expected, b, std::memory_order_relaxed)) return;
+  }
+}
+
+// The regions of TetGen's tets: sets joined across the faces that are not surface triangles,
+// numbered in the order of their least tet; and per region its tet of largest volume (the
+// least such tet on a tie). A union-find on both threads: a depth-first walk of the 6M tets of
+// a million-vertex part took 0.8 s on one.
+void tet_regions(View<int> tets, View<int> neighbors, const std::vector<double>& volume6,
+                 const OpenHashSet<Tri, TriHash>& surface_tris, std::size_t num_surface_nodes,
+                 std::vector<std::int32_t>& region, std::vector<std::size_t>& region_largest) {
+  const std::size_t ntet = tets.size() / 4;
+  const auto n = static_cast<std::ptrdiff_t>(ntet);
+  std::vector<std::atomic<std::int32_t>> parent(ntet);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t t = 0; t < n; ++t)
+    parent[t].store(static_cast<std::int32_t>(t), std::memory_order_relaxed);
+  const auto s_nodes = static_cast<std::int32_t>(num_surface_nodes);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t t = 0; t < n; ++t) {
+    for (int i = 0; i < 4; ++i) {
+      const int nb = neighbors[4 * t + i];
+      if (nb <= t) continue;  // each face once, and none on the hull
+      // TetGen's neighbour i is across the face opposite corner i (its own vertex order).
+      std::int32_t fv[3], k = 0;
+      for (int a = 0; a < 4; ++a)
+        if (a != i) fv[k++] = tets[4 * t + a];
+      // Surface triangles (the output's boundary, equal to the input's) join surface nodes only.
+      if (fv[0] < s_nodes && fv[1] < s_nodes && fv[2] < s_nodes &&
+          surface_tris.contains(sorted_tri(fv[0], fv[1], fv[2])))
+        continue;
+      unite(parent, static_cast<std::int32_t>(t), nb);
+    }
+  }
+  region.assign(ntet, -1);
+  region_largest.clear();
+  for (std::size_t t = 0; t < ntet; ++t) {
+    const std::int32_t root = find_root(parent, static_cast<std::int32_t>(t));
+    if (static_cast<std::size_t>(root) == t) {
+      region[t] = static_cast<std::int32_t>(region_largest.size());
+      region_largest.push_back(t);
+    } else {
+      region[t] = region[root];  // the root, the least tet of the set, came first
+      std::size_t& best = region_largest[region[t]];
+      if (volume6[t] > volume6[best]) best = t;
+    }
+  }
 }
 
 // Reads exactly `n` bytes; false at an early end of file or on an error.
@@ -410,6 +492,9 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
     }
   }
 
+  OpenHashSet<Tri, TriHash> surface_tris(output.size());
+  for (const Tri& t : output) surface_tris.insert(t);
+
   // Tets, positively oriented; then regions: flood fill across faces that are not surface
   // triangles, each region classified by the centroid of its largest tet (drops inner voids).
   // Not the first tet's: without the Delaunay recovery that may be a flat tet on a curved face,
@@ -426,41 +511,9 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const std::vector<Vec3>& inte
     if (o < 0) std::swap(T[2], T[3]);
     volume6[t] = std::abs(o);
   }
-  std::vector<std::int32_t> region(ntet, -1);
+  std::vector<std::int32_t> region;
   std::vector<std::size_t> region_largest;  // per region: its tet of largest volume
-  std::vector<std::size_t> stack;
-  for (std::size_t seed = 0; seed < ntet; ++seed) {
-    if (region[seed] >= 0) continue;
-    const auto r = static_cast<std::int32_t>(region_largest.size());
-    region_largest.push_back(seed);
-    double largest = -std::numeric_limits<double>::infinity();
-    region[seed] = r;
-    stack.assign(1, seed);
-    while (!stack.empty()) {
-      const std::size_t t = stack.back();
-      stack.pop_back();
-      if (const double v = volume6[t]; v > largest) {
-        largest = v;
-        region_largest[r] = t;
-      }
-      for (int i = 0; i < 4; ++i) {
-        const int nb = out.neighbors[4 * t + i];
-        if (nb < 0 || region[nb] >= 0) continue;
-        // The face shared with the neighbour: TetGen's neighbour i is across the face opposite
-        // corner i (its own vertex order, before the orientation above).
-        std::int32_t fv[3], n = 0;
-        for (int a = 0; a < 4; ++a)
-          if (a != i) fv[n++] = out.tets[4 * t + a];
-        // Surface triangles (the output's boundary, equal to the input's) join surface nodes only.
-        const auto s_nodes = static_cast<std::int32_t>(ns);
-        if (fv[0] < s_nodes && fv[1] < s_nodes && fv[2] < s_nodes &&
-            std::binary_search(output.begin(), output.end(), sorted_tri(fv[0], fv[1], fv[2])))
-          continue;
-        region[nb] = r;
-        stack.push_back(static_cast<std::size_t>(nb));
-      }
-    }
-  }
+  tet_regions(out.tets, out.neighbors, volume6, surface_tris, ns, region, region_largest);
   std::vector<int> region_solid(region_largest.size());
   for (std::size_t r = 0; r < region_largest.size(); ++r) {
     Vec3 c{0, 0, 0};

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -15,6 +16,23 @@
 #endif
 
 namespace hexfem {
+
+// The threads a parallel region gets, and the calling thread's number in its region (1 and 0
+// without OpenMP).
+inline int max_threads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+inline int thread_index() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
 
 // std::merge of [a, a + na) and [b, b + nb) into out, cut into `pieces` merges of equal output
 // length run on all threads. Each cut is placed on the merge path (the first k outputs take i
@@ -45,10 +63,7 @@ void parallel_merge(const T* a, std::size_t na, const T* b, std::size_t nb, T* o
 // std::sort of v: one part per thread sorted, then merged in pairs, each merge on all threads.
 template <class T, class Less = std::less<>>
 void parallel_sort(std::vector<T>& v, Less less = {}) {
-  int threads = 1;
-#ifdef _OPENMP
-  threads = omp_get_max_threads();
-#endif
+  const int threads = max_threads();
   if (threads < 2 || v.size() < (std::size_t{1} << 15)) {
     std::sort(v.begin(), v.end(), less);
     return;
@@ -82,18 +97,12 @@ void parallel_sort(std::vector<T>& v, Less less = {}) {
 // many items all calls append (reserved, as address space only, so the lists need not grow).
 template <class T, class Add>
 std::vector<T> parallel_collect(std::size_t n, Add add, std::size_t expected = 0) {
-  int threads = 1;
-#ifdef _OPENMP
-  threads = omp_get_max_threads();
-#endif
+  const int threads = max_threads();
   std::vector<std::vector<T>> parts(threads);
   const auto count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel num_threads(threads)
   {
-    int me = 0;
-#ifdef _OPENMP
-    me = omp_get_thread_num();
-#endif
+    const int me = thread_index();
     parts[me].reserve(expected / threads + expected / 8);
 #pragma omp for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) add(static_cast<std::size_t>(i), parts[me]);
@@ -104,6 +113,47 @@ std::vector<T> parallel_collect(std::size_t n, Add add, std::size_t expected = 0
   all.reserve(total);
   for (const std::vector<T>& p : parts) all.insert(all.end(), p.begin(), p.end());
   return all;
+}
+
+// A counting sort of items 0..n-1 into buckets 0..m-1 on all threads: keys(t, f) calls f(b)
+// for each bucket b of item t; off gets the buckets' offsets (m + 1) and put(i, t, b) is called
+// with each slot i of bucket b. Each thread takes one block of items and counts, then fills,
+// its own; bucket b's slots go to the blocks in order, so every bucket holds its items in
+// increasing order, as one thread would put them.
+template <class Keys, class Put>
+void parallel_bucket_items(std::size_t n, std::size_t m, Keys keys, std::vector<std::int32_t>& off,
+                           Put put) {
+  const int threads = max_threads();
+  std::vector<std::vector<std::int32_t>> at(threads);
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel num_threads(threads)
+  {
+    const int me = thread_index();
+    at[me].assign(m, 0);
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t t = 0; t < count; ++t)
+      keys(static_cast<std::size_t>(t), [&](std::int32_t b) { ++at[me][b]; });
+#pragma omp single
+    {
+      off.assign(m + 1, 0);
+      std::int32_t next = 0;
+      for (std::size_t b = 0; b < m; ++b) {
+        off[b] = next;
+        for (int q = 0; q < threads; ++q) {
+          if (at[q].empty()) continue;  // a thread the team did not get
+          const std::int32_t c = at[q][b];
+          at[q][b] = next;
+          next += c;
+        }
+      }
+      off[m] = next;
+    }  // the single's barrier: every block's slots are known before any is filled
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t t = 0; t < count; ++t)
+      keys(static_cast<std::size_t>(t), [&](std::int32_t b) {
+        put(static_cast<std::size_t>(at[me][b]++), static_cast<std::size_t>(t), b);
+      });
+  }
 }
 
 }  // namespace hexfem

@@ -281,6 +281,51 @@ TEST(VolumePoints, RandomModeMatchesTheFrontalCountAndStaysInside) {
 // flat tets (four coplanar lattice points, or a quad of a planar face with its other diagonal
 // inside). None is inverted; the recombination absorbs or flips them like any sliver. With the
 // recovery every tet is positive, as "tetgen -pY" gives.
+// A 6 x 6 x 6 box with a 2 x 2 x 2 cavity in its middle: TetGen fills the cavity too (no hole
+// point is given), and the regions split by the surface triangles must drop those tets. The
+// tets left hold the 208 of the solid, and every one has its centroid in the wall.
+TEST(Tetrahedralize, DropsTheTetsOfAnInnerCavity) {
+  SurfaceMesh s = synthetic::box_surface({6, 6, 6}, {6, 6, 6});
+  const SurfaceMesh inner = synthetic::box_surface({2, 2, 2}, {2, 2, 2});
+  const auto offset = static_cast<std::int32_t>(s.mesh.nodes.size());
+  for (std::size_t v = 0; v < inner.mesh.nodes.size(); ++v) {
+    const Vec3& p = inner.mesh.nodes[v];
+    s.mesh.nodes.push_back({p[0] + 2, p[1] + 2, p[2] + 2});
+    const auto& f = inner.frame[v];
+    s.frame.push_back({f[0], f[1], {-f[2][0], -f[2][1], -f[2][2]}});
+    s.size.push_back(inner.size[v]);
+    s.on_edge.push_back(inner.on_edge[v]);
+  }
+  for (std::size_t t = 0; t < inner.mesh.num_bfaces(); ++t) {  // reversed: normals into the cavity
+    const auto* f = inner.mesh.bface(t);
+    s.mesh.add_bface(f[0] + offset, f[2] + offset, f[1] + offset, -1,
+                     inner.mesh.bface_cad_face[t] + 6);
+  }
+  s.faces_of_solid = {{}, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12}};
+  const SolidLocator loc(s);
+  // Points in the wall only, on the lattice of the surfaces (step 1), and none in the cavity.
+  std::vector<Vec3> points;
+  auto in_cavity = [](const Vec3& p) {
+    return p[0] >= 2 && p[0] <= 4 && p[1] >= 2 && p[1] <= 4 && p[2] >= 2 && p[2] <= 4;
+  };
+  for (int i = 1; i < 6; ++i)
+    for (int j = 1; j < 6; ++j)
+      for (int k = 1; k < 6; ++k)
+        if (const Vec3 p{i + 0.0, j + 0.0, k + 0.0}; !in_cavity(p)) points.push_back(p);
+  const TetMesh tm = tetrahedralize(s, points, loc);
+  EXPECT_GT(tm.dropped_tets, 0u);
+  double vol = 0;
+  for (std::size_t t = 0; t < tm.tets.size(); ++t) {
+    vol += tet_volume(tm, t);
+    Vec3 c{0, 0, 0};
+    for (std::int32_t v : tm.tets[t])
+      for (int a = 0; a < 3; ++a) c[a] += 0.25 * tm.nodes[v][a];
+    EXPECT_FALSE(in_cavity(c)) << "tet " << t;
+    EXPECT_EQ(tm.tet_solid[t], 1);
+  }
+  EXPECT_NEAR(vol, 208.0, 1e-9);
+}
+
 TEST(Tetrahedralize, KeepsTheSurfaceAndFillsTheVolume) {
   const SurfaceMesh s = synthetic::cylinder_surface(1.0, 1.5, 0.25);
   const FrameField3D field(s);
