@@ -14,6 +14,7 @@
 #include "mesher/conformal.hpp"
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
+#include "mesher/mesh/parallel.hpp"
 #include "mesher/mesh/progress.hpp"
 #include "mesher/mesh/quad8.hpp"
 
@@ -49,11 +50,15 @@ constexpr double kHangingNodeMinRatio = 0.05;
 Order2Report add_order2_nodes(MixedMesh& mesh, const CadModel* cad) {
   Order2Report report;
   MidEdgeProjector project;
-  if (cad)
-    project = [cad](const Vec3& a, const Vec3& b, int f1, int f2) {
+  // One projector per thread: each keeps its faces' and edges' OCCT projectors.
+  std::vector<GeometryProjector> projectors;
+  if (cad) {
+    for (int t = 0; t < max_threads(); ++t) projectors.emplace_back(*cad);
+    project = [&projectors](const Vec3& a, const Vec3& b, int f1, int f2) {
       const Vec3 mid{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2};
-      return closest_point_on_geometry(*cad, mid, f1, f2).value_or(mid);
+      return projectors[thread_index()].closest(mid, f1, f2).value_or(mid);
     };
+  }
   add_mid_edge_nodes(mesh, project, &report);
   bend_interior_nodes(mesh, element_jacobian_ratio, element_jacobian_ratio_at_nodes_and_points,
                       kMinCurvedRatio, &report);

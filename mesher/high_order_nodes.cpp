@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "mesher/mesh/element_topology.hpp"
 #include "mesher/mesh/error.hpp"
+#include "mesher/mesh/parallel.hpp"
 #include "mesher/mesh/quad8.hpp"
 
 namespace hexfem {
@@ -34,6 +36,37 @@ struct BoundaryEdge {
   std::int32_t a, b, node;
   int face1, face2;
 };
+
+}  // namespace
+
+namespace {
+
+// ratio(mesh, c) of every cell, on all threads (the ratio only reads the mesh).
+std::vector<double> ratios_of_all_cells(const MixedMesh& mesh, const CellJacobianRatio& ratio) {
+  std::vector<double> q(mesh.num_cells());
+  const auto n = static_cast<std::ptrdiff_t>(q.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t c = 0; c < n; ++c) q[c] = ratio(mesh, static_cast<std::size_t>(c));
+  return q;
+}
+
+// The cells around each mid-edge node, in increasing order (CSR: those of node m are
+// around[start[m]] to around[start[m + 1] - 1]).
+void cells_around_edge_nodes(const MixedMesh& mesh, std::vector<std::int32_t>& start,
+                             std::vector<std::int32_t>& around) {
+  std::size_t slots = 0;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) slots += num_edges(mesh.cell_kind[c]);
+  around.resize(slots);
+  parallel_bucket_items(
+      mesh.num_cells(), mesh.nodes.size(),
+      [&](std::size_t c, auto&& f) {
+        for (int e = 0; e < num_edges(mesh.cell_kind[c]); ++e) f(mesh.cell_edges(c)[e]);
+      },
+      start,
+      [&](std::size_t i, std::size_t c, std::int32_t) {
+        around[i] = static_cast<std::int32_t>(c);
+      });
+}
 
 }  // namespace
 
@@ -78,18 +111,29 @@ void add_mid_edge_nodes(MixedMesh& mesh, const MidEdgeProjector& project, Order2
   }
   r.boundary_nodes = static_cast<long>(boundary.size());
   if (project) {
-    for (const BoundaryEdge& e : boundary) {
+    // Each projection on its own (the nodes are distinct and only the edge's corners are read):
+    // on all threads, the counts joined after.
+    const auto n = static_cast<std::ptrdiff_t>(boundary.size());
+    long refused = 0, curved = 0;
+    double max_offset = 0;
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : refused, curved) \
+    reduction(max : max_offset)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const BoundaryEdge& e = boundary[i];
       const Vec3 &a = mesh.nodes[e.a], &b = mesh.nodes[e.b];
       const Vec3 p = project(a, b, e.face1, e.face2);
       const double len = distance(a, b), off = distance(p, midpoint(a, b));
       if (!(off <= 0.5 * len)) {  // a jump to another branch of the surface, or NaN
-        ++r.projection_refused;
+        ++refused;
         continue;
       }
       mesh.nodes[e.node] = p;
-      if (off > 1e-12 * len) ++r.curved_nodes;
-      r.max_offset = std::max(r.max_offset, off / len);
+      if (off > 1e-12 * len) ++curved;
+      max_offset = std::max(max_offset, off / len);
     }
+    r.projection_refused += refused;
+    r.curved_nodes += curved;
+    r.max_offset = std::max(r.max_offset, max_offset);
   }
   mesh.order = 2;
   if (report) *report = r;
@@ -100,26 +144,16 @@ void bend_interior_nodes(MixedMesh& mesh, const CellJacobianRatio& ratio,
                          Order2Report* report) {
   if (mesh.order != 2) return;
   const std::size_t ncells = mesh.num_cells();
-  std::vector<double> q(ncells);
+  std::vector<double> q = ratios_of_all_cells(mesh, ratio);
   std::vector<std::size_t> bad;
   for (std::size_t c = 0; c < ncells; ++c)
-    if ((q[c] = ratio(mesh, c)) < min_ratio) bad.push_back(c);
+    if (q[c] < min_ratio) bad.push_back(c);
   if (bad.empty()) return;
   std::vector<std::uint8_t> on_boundary(mesh.nodes.size(), 0);
   for (const std::int32_t m : mesh.bface_edge_nodes)
     if (m >= 0) on_boundary[static_cast<std::size_t>(m)] = 1;
-  // The cells around each mid-edge node (CSR).
-  std::vector<std::int32_t> start(mesh.nodes.size() + 1, 0), around;
-  for (std::size_t c = 0; c < ncells; ++c)
-    for (int e = 0; e < num_edges(mesh.cell_kind[c]); ++e) ++start[mesh.cell_edges(c)[e] + 1];
-  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  around.resize(static_cast<std::size_t>(start.back()));
-  {
-    std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t c = 0; c < ncells; ++c)
-      for (int e = 0; e < num_edges(mesh.cell_kind[c]); ++e)
-        around[fill[mesh.cell_edges(c)[e]]++] = static_cast<std::int32_t>(c);
-  }
+  std::vector<std::int32_t> start, around;
+  cells_around_edge_nodes(mesh, start, around);
   // Enough for nine in ten of the cells mended on ANC101 at h = 17; a cell that needs more is
   // left to straightening.
   constexpr int kMaxEvaluations = 1500;
@@ -263,10 +297,18 @@ void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, d
   long cells = 0, nodes = 0;
   // Straightening an edge also flattens the neighbours' curve, which may (rarely) spoil one of
   // them: a few passes.
+  // Each pass reads every cell's ratio, found on all threads first; a cell whose mid-edge node
+  // an earlier cell of the pass moved is measured again when its turn comes.
+  std::vector<char> moved_in_pass(mesh.nodes.size());
   for (int pass = 0, changed = 1; pass < 4 && changed; ++pass) {
     changed = 0;
+    const std::vector<double> at_start = ratios_of_all_cells(mesh, ratio);
+    std::fill(moved_in_pass.begin(), moved_in_pass.end(), 0);
     for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
-      const double before = ratio(mesh, c);
+      bool stale = false;
+      for (int e = 0; e < num_edges(mesh.cell_kind[c]); ++e)
+        stale = stale || moved_in_pass[mesh.cell_edges(c)[e]];
+      const double before = stale ? ratio(mesh, c) : at_start[c];
       if (before >= min_ratio) continue;
       std::vector<std::pair<std::int32_t, Vec3>> moved;
       for (int e = 0; e < num_edges(mesh.cell_kind[c]); ++e) {
@@ -292,10 +334,12 @@ void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, d
       ++cells;
       ++changed;
       nodes += static_cast<long>(moved.size());
+      for (const auto& mx : moved) moved_in_pass[mx.first] = 1;
     }
   }
+  const std::vector<double> final_ratio = ratios_of_all_cells(mesh, ratio);
   for (std::size_t c = 0; c < mesh.num_cells(); ++c)
-    if (!(ratio(mesh, c) > 0))
+    if (!(final_ratio[c] > 0))
       throw Error("order 2: cell " + std::to_string(c + 1) + " (" +
                   kind_name(mesh.cell_kind[c], 2) +
                   ") has a non-positive Jacobian even with straight edges");
@@ -308,10 +352,8 @@ void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, d
 void place_hanging_nodes_on_quads(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
                                   Order2Report* report) {
   if (mesh.order != 2 || mesh.nc_cell.empty()) return;
-  std::unordered_map<std::int32_t, std::vector<std::int32_t>> cells_of;  // mid-edge node -> cells
-  for (std::size_t c = 0; c < mesh.num_cells(); ++c)
-    for (int e = 0; e < num_edges(mesh.cell_kind[c]); ++e)
-      cells_of[mesh.cell_edges(c)[e]].push_back(static_cast<std::int32_t>(c));
+  std::vector<std::int32_t> start, around_all;
+  cells_around_edge_nodes(mesh, start, around_all);
   // The side nodes of the NC quads are masters of ties and stay put.
   const std::vector<NcQuad8> quads = nc_quad8_faces(mesh);
   std::vector<std::uint8_t> side(mesh.nodes.size(), 0);
@@ -326,7 +368,8 @@ void place_hanging_nodes_on_quads(MixedMesh& mesh, const CellJacobianRatio& rati
       const Quad8Nearest near = quad8_nearest(mesh, q.nodes.data(), mesh.nodes[h]);
       if (std::abs(near.x) >= 0.999 || std::abs(near.y) >= 0.999) continue;  // not over the face
       if (near.distance <= 1e-9 * near.size) continue;                       // on it already
-      const std::vector<std::int32_t>& around = cells_of[h];
+      const std::span<const std::int32_t> around(around_all.data() + start[h],
+                                                 around_all.data() + start[h + 1]);
       std::vector<double> before(around.size());
       for (std::size_t i = 0; i < around.size(); ++i)
         before[i] = ratio(mesh, static_cast<std::size_t>(around[i]));

@@ -26,7 +26,8 @@ struct Order2Report {
 };
 
 // Where the mid-edge node of boundary edge (a, b) goes: the edge lies on CAD faces face1 and
-// face2 of the boundary faces beside it (equal inside a face, different on a CAD edge).
+// face2 of the boundary faces beside it (equal inside a face, different on a CAD edge). Called
+// on all threads at once.
 using MidEdgeProjector = std::function<Vec3(const Vec3& a, const Vec3& b, int face1, int face2)>;
 
 // Makes `mesh` order 2 (mesh.order, cell_edge_nodes, bface_edge_nodes, new nodes appended).

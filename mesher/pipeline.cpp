@@ -350,14 +350,20 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   return mesh;
 }
 
-MixedMesh mesh_file(const std::filesystem::path& path, const MeshOptions& options,
-                    MeshReport* report) {
+CadModel read_cad_to_mesh(const std::filesystem::path& path, const MeshOptions& options,
+                          MeshReport& report) {
   const auto t0 = std::chrono::steady_clock::now();
   show_progress("reading " + path.filename().string() + "...");
-  const CadModel cad = CadModel::read(path, options.read);
+  CadModel cad = CadModel::read(path, options.read);
+  report.cad_seconds = seconds_since(t0);
+  return cad;
+}
+
+MixedMesh mesh_file(const std::filesystem::path& path, const MeshOptions& options,
+                    MeshReport* report) {
   MeshReport local;
   MeshReport& r = report ? *report : local;
-  r.cad_seconds = seconds_since(t0);
+  const CadModel cad = read_cad_to_mesh(path, options, r);
   return mesh_part(cad, options, &r);
 }
 

@@ -44,6 +44,11 @@ struct MeshReport {
 // an h that would give more than max_volume_points without surface.force, or a failing stage.
 MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport* report = nullptr);
 
+// Reads the CAD file as mesh_file does (its time in report.cad_seconds), for a caller that
+// needs the model again after mesh_part (the order-2 nodes on its geometry).
+CadModel read_cad_to_mesh(const std::filesystem::path& path, const MeshOptions& options,
+                          MeshReport& report);
+
 // Reads the CAD file and meshes it.
 MixedMesh mesh_file(const std::filesystem::path& path, const MeshOptions& options,
                     MeshReport* report = nullptr);
