@@ -37,10 +37,6 @@ struct BoundaryEdge {
   int face1, face2;
 };
 
-}  // namespace
-
-namespace {
-
 // ratio(mesh, c) of every cell, on all threads (the ratio only reads the mesh).
 std::vector<double> ratios_of_all_cells(const MixedMesh& mesh, const CellJacobianRatio& ratio) {
   std::vector<double> q(mesh.num_cells());
