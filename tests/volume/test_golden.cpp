@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "app/part_modal.hpp"
 #include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/pipeline.hpp"
 
@@ -46,6 +47,10 @@ std::string mesh_hash(const MixedMesh& m) {
   f.add(m.bface_cad_face);
   f.add(m.nc_cell);
   f.add(m.nc_local_face);
+  if (m.order == 2) {  // the mid-edge nodes (their coordinates are in m.nodes)
+    f.add(m.cell_edge_nodes);
+    f.add(m.bface_edge_nodes);
+  }
   char s[17];
   std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(f.h));
   return s;
@@ -54,19 +59,24 @@ std::string mesh_hash(const MixedMesh& m) {
 struct GoldenPart {
   std::string file;
   double h;
-  bool glue;  // --glue: the solids fused into a bonded assembly first
+  bool glue;      // --glue: the solids fused into a bonded assembly first
+  int order = 1;  // 2: the mid-edge nodes put on the CAD geometry, as `hexfem mesh --order 2`
 };
 
 nlohmann::json measure(const GoldenPart& part) {
-  const auto& [file, h, glue] = part;
+  const auto& [file, h, glue, order] = part;
   MeshOptions o;
   o.surface.h = h;
   o.read.glue = glue;
-  const MixedMesh m = mesh_file(std::string(HEXFEM_SOURCE_DIR) + "/" + file, o);
+  MeshReport report;
+  const CadModel cad = read_cad_to_mesh(std::string(HEXFEM_SOURCE_DIR) + "/" + file, o, report);
+  MixedMesh m = mesh_part(cad, o, &report);
+  if (order == 2) raise_to_order2(m, &cad);
   const MeshStats st = compute_stats(m);
   nlohmann::json j;
   j["file"] = file;
   j["h"] = h;
+  if (order == 2) j["order"] = 2;
   j["vertices"] = m.nodes.size();
   for (int k = 0; k < kNumCellKinds; ++k)
     j[kind_name(static_cast<CellKind>(k))] = st.cells_per_kind[k];
@@ -78,7 +88,8 @@ nlohmann::json measure(const GoldenPart& part) {
 
 // The parts: the demo's steel part, a curved part, the paper's ANC101, a thin-walled part, a
 // solid whose lumps touch along an edge, a glued assembly (the last two since session 19; the
-// first four's entries did not move when they were added), and a part meshed again (session 36).
+// first four's entries did not move when they were added), a part meshed again and a part at
+// order 2 (session 36).
 const std::vector<GoldenPart> kParts = {
     {"models/steel_part.step", 1.0, false},
     {"tests/data/cylinder.stp", 0.9, false},
@@ -90,6 +101,9 @@ const std::vector<GoldenPart> kParts = {
     // attempt's volume never meshed (session 36; its entry made by the code before, which
     // meshed every attempt in full).
     {"tests/data/tie_rod.step", 4.26, false},
+    // Order 2 on B-spline blades (session 36; its entry made by the code before the mid-edge
+    // nodes were placed on all threads).
+    {"tests/data/Propeller.rle", 67.93, false, 2},
 };
 
 TEST(Golden, MeshesMatchThePinnedCountsAndHashes) {
