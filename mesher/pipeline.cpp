@@ -101,21 +101,13 @@ MixedMesh mesh_once(const CadModel& cad, const MeshOptions& options, MeshReport&
   return mesh_volume_checked(surface_once(cad, options, r), options, r);
 }
 
-// (V - V_CAD) / V_CAD for the volume V inside a surface mesh's triangles (outward, closed; the
-// divergence theorem), or NaN for a part of several solids (faces between two of them are inside
-// the part). The tets fill exactly that volume, and the elements stay within max_total_gap of
-// the tets' volume: the volume mesh's error is this one within that gap.
-double surface_volume_error(const CadModel& cad, const SurfaceMesh& surface, double cad_volume) {
-  if (cad.num_solids() != 1 || !(cad_volume > 0)) return std::nan("");
-  const MixedMesh& m = surface.mesh;
-  double six = 0;
-  for (std::size_t f = 0; f < m.num_bfaces(); ++f) {
-    const Vec3 &a = m.nodes[m.bface(f)[0]], &b = m.nodes[m.bface(f)[1]],
-               &c = m.nodes[m.bface(f)[2]];
-    six += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
-           a[2] * (b[0] * c[1] - b[1] * c[0]);
-  }
-  return (six / 6 - cad_volume) / cad_volume;
+// (V - V_CAD) / V_CAD for the volume V inside the surface mesh a report's checks measured, or
+// NaN for a part of several solids (faces between two of them are inside the part). The tets
+// fill exactly that volume, and the elements stay within max_total_gap of the tets' volume: the
+// volume mesh's error is this one within that gap.
+double surface_volume_error(const CadModel& cad, const SurfaceReport& surface, double cad_volume) {
+  if (cad.num_solids() != 1 || surface.checks.size() != 1 || !(cad_volume > 0)) return std::nan("");
+  return (surface.checks.front().volume - cad_volume) / cad_volume;
 }
 
 // mesh_once; where its mesh has flat or inverted cells, or its surface mesh crosses itself, the
@@ -231,7 +223,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   with_size_hint([&] {
     Attempt& a = kept.back();
     SurfaceMesh first = surface_once(cad, options, a.report);
-    const double off = surface_volume_error(cad, first, r.cad_volume);
+    const double off = surface_volume_error(cad, a.report.surface, r.cad_volume);
     if (sure_to_retry(off)) {
       a.report.volume_error = off;
       a.waiting = std::move(first);
@@ -277,7 +269,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
       } catch (const Error&) {
         break;  // the finer sizes exceed a budget or fail: keep the closest mesh so far
       }
-      const double signed_off = surface_volume_error(cad, surface, r.cad_volume);
+      const double signed_off = surface_volume_error(cad, next.report.surface, r.cad_volume);
       const double off = std::abs(signed_off);
       const double best = std::abs(kept.back().report.volume_error);
       if (off - best > 2 * margin) break;  // no closer, whatever its volume mesh
