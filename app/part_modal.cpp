@@ -47,8 +47,13 @@ constexpr double kMinCurvedRatio = 1e-4;
 // Placing a hanging node on its quad must not take a cell below this (nor below its own ratio).
 constexpr double kHangingNodeMinRatio = 0.05;
 
-Order2Report add_order2_nodes(MixedMesh& mesh, const CadModel* cad) {
+// Each step timed as "order 2: <step><suffix>".
+Order2Report add_order2_nodes(MixedMesh& mesh, const CadModel* cad, const std::string& suffix) {
   Order2Report report;
+  StageTimer timer;
+  auto lap = [&](const char* step) {
+    report.stages.push_back(timer.lap(std::string("order 2: ") + step + suffix));
+  };
   MidEdgeProjector project;
   // One projector per thread: each keeps its faces' and edges' OCCT projectors.
   std::vector<GeometryProjector> projectors;
@@ -60,10 +65,17 @@ Order2Report add_order2_nodes(MixedMesh& mesh, const CadModel* cad) {
     };
   }
   add_mid_edge_nodes(mesh, project, &report);
+  lap("mid-edge nodes");
+  // Every cell's ratio, found once and kept current through the three steps.
+  std::vector<double> ratios;
   bend_interior_nodes(mesh, element_jacobian_ratio, element_jacobian_ratio_at_nodes_and_points,
-                      kMinCurvedRatio, &report);
-  straighten_invalid_cells(mesh, element_jacobian_ratio, kMinCurvedRatio, &report);
-  place_hanging_nodes_on_quads(mesh, element_jacobian_ratio, kHangingNodeMinRatio, &report);
+                      kMinCurvedRatio, &report, &ratios);
+  lap("bending");
+  straighten_invalid_cells(mesh, element_jacobian_ratio, kMinCurvedRatio, &report, &ratios);
+  lap("straightening");
+  place_hanging_nodes_on_quads(mesh, element_jacobian_ratio, kHangingNodeMinRatio, &report,
+                               &ratios);
+  lap("hanging nodes");
   return report;
 }
 
@@ -90,14 +102,17 @@ Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad) {
   // the order-2 nodes are made again.
   MixedMesh linear;
   if (cad && !mesh.nc_cell.empty()) linear = mesh;
-  Order2Report report = add_order2_nodes(mesh, cad);
+  Order2Report report = add_order2_nodes(mesh, cad, "");
   if (!cad || linear.nodes.empty()) return report;
+  StageTimer timer;
   ConformalOptions co;
   co.only_quads = untied_nc_quads(mesh);
   if (co.only_quads.empty()) return report;
   const ConformalReport cr = make_conformal(linear, co);
-  Order2Report again = add_order2_nodes(linear, cad);
+  report.stages.push_back(timer.lap("order 2: untied NC faces made conformal"));
+  Order2Report again = add_order2_nodes(linear, cad, " (again)");
   again.nc_made_conformal = static_cast<long>(cr.nc_before - cr.nc_after);
+  again.stages.insert(again.stages.begin(), report.stages.begin(), report.stages.end());
   mesh = std::move(linear);
   return again;
 }

@@ -128,6 +128,13 @@ void to_json(nlohmann::json& j, const Order2Report& r) {
        {"hanging_placed", r.hanging_placed},
        {"hanging_kept", r.hanging_kept},
        {"nc_made_conformal", r.nc_made_conformal}};
+  double total = 0;
+  j["stages"] = nlohmann::json::array();
+  for (const StageTime& t : r.stages) {
+    j["stages"].push_back({{"name", t.name}, {"seconds", t.seconds}});
+    total += t.seconds;
+  }
+  j["seconds"] = total;
 }
 
 }  // namespace hexfem

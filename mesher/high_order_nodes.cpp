@@ -46,6 +46,21 @@ std::vector<double> ratios_of_all_cells(const MixedMesh& mesh, const CellJacobia
   return q;
 }
 
+// q[c] = ratio(mesh, c) again for every cell with a mid-edge node flagged in `moved`, on all
+// threads: q is then every cell's ratio, if it was before those nodes moved.
+void refresh_ratios(const MixedMesh& mesh, const CellJacobianRatio& ratio,
+                    const std::vector<char>& moved, std::vector<double>& q) {
+  const auto n = static_cast<std::ptrdiff_t>(q.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t c = 0; c < n; ++c) {
+    const auto cell = static_cast<std::size_t>(c);
+    bool stale = false;
+    for (int e = 0; e < num_edges(mesh.cell_kind[cell]) && !stale; ++e)
+      stale = moved[mesh.cell_edges(cell)[e]] != 0;
+    if (stale) q[cell] = ratio(mesh, cell);
+  }
+}
+
 // The cells around each mid-edge node, in increasing order (CSR: those of node m are
 // around[start[m]] to around[start[m + 1] - 1]).
 void cells_around_edge_nodes(const MixedMesh& mesh, std::vector<std::int32_t>& start,
@@ -137,10 +152,19 @@ void add_mid_edge_nodes(MixedMesh& mesh, const MidEdgeProjector& project, Order2
 
 void bend_interior_nodes(MixedMesh& mesh, const CellJacobianRatio& ratio,
                          const CellJacobianRatio& search_ratio, double min_ratio,
-                         Order2Report* report) {
+                         Order2Report* report, std::vector<double>* ratios) {
   if (mesh.order != 2) return;
   const std::size_t ncells = mesh.num_cells();
   std::vector<double> q = ratios_of_all_cells(mesh, ratio);
+  // q stays every cell's ratio: a bend kept updates its region (every cell around a moved
+  // node), one undone puts the nodes back exactly.
+  struct GiveBack {
+    std::vector<double>& q;
+    std::vector<double>* out;
+    ~GiveBack() {
+      if (out) *out = std::move(q);
+    }
+  } give_back{q, ratios};
   std::vector<std::size_t> bad;
   for (std::size_t c = 0; c < ncells; ++c)
     if (q[c] < min_ratio) bad.push_back(c);
@@ -279,7 +303,7 @@ void bend_interior_nodes(MixedMesh& mesh, const CellJacobianRatio& ratio,
 }
 
 void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
-                              Order2Report* report) {
+                              Order2Report* report, std::vector<double>* ratios) {
   // The straight position of every mid-edge node, from its cell's corners.
   std::vector<Vec3> straight(mesh.nodes.size());
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
@@ -295,10 +319,17 @@ void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, d
   // them: a few passes.
   // Each pass reads every cell's ratio, found on all threads first; a cell whose mid-edge node
   // an earlier cell of the pass moved is measured again when its turn comes.
+  // The ratios at a pass's start: those the caller gave, or all found once; then those of the
+  // cells whose nodes the previous pass moved found again.
   std::vector<char> moved_in_pass(mesh.nodes.size());
+  std::vector<double> at_start;
+  if (ratios && ratios->size() == mesh.num_cells())
+    at_start = std::move(*ratios);
+  else
+    at_start = ratios_of_all_cells(mesh, ratio);
   for (int pass = 0, changed = 1; pass < 4 && changed; ++pass) {
     changed = 0;
-    const std::vector<double> at_start = ratios_of_all_cells(mesh, ratio);
+    if (pass > 0) refresh_ratios(mesh, ratio, moved_in_pass, at_start);
     std::fill(moved_in_pass.begin(), moved_in_pass.end(), 0);
     for (std::size_t c = 0; c < mesh.num_cells(); ++c) {
       bool stale = false;
@@ -333,7 +364,8 @@ void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, d
       for (const auto& mx : moved) moved_in_pass[mx.first] = 1;
     }
   }
-  const std::vector<double> final_ratio = ratios_of_all_cells(mesh, ratio);
+  refresh_ratios(mesh, ratio, moved_in_pass, at_start);
+  const std::vector<double>& final_ratio = at_start;
   for (std::size_t c = 0; c < mesh.num_cells(); ++c)
     if (!(final_ratio[c] > 0))
       throw Error("order 2: cell " + std::to_string(c + 1) + " (" +
@@ -343,10 +375,12 @@ void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, d
     report->straightened_cells += cells;
     report->straightened_nodes += nodes;
   }
+  if (ratios) *ratios = std::move(at_start);
 }
 
 void place_hanging_nodes_on_quads(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
-                                  Order2Report* report) {
+                                  Order2Report* report, std::vector<double>* ratios) {
+  const bool known = ratios && ratios->size() == mesh.num_cells();
   if (mesh.order != 2 || mesh.nc_cell.empty()) return;
   std::vector<std::int32_t> start, around_all;
   cells_around_edge_nodes(mesh, start, around_all);
@@ -366,16 +400,19 @@ void place_hanging_nodes_on_quads(MixedMesh& mesh, const CellJacobianRatio& rati
       if (near.distance <= 1e-9 * near.size) continue;                       // on it already
       const std::span<const std::int32_t> around(around_all.data() + start[h],
                                                  around_all.data() + start[h + 1]);
-      std::vector<double> before(around.size());
+      std::vector<double> before(around.size()), after(around.size());
       for (std::size_t i = 0; i < around.size(); ++i)
-        before[i] = ratio(mesh, static_cast<std::size_t>(around[i]));
+        before[i] = known ? (*ratios)[around[i]] : ratio(mesh, static_cast<std::size_t>(around[i]));
       const Vec3 old = mesh.nodes[h];
       mesh.nodes[h] = near.at;
       bool ok = true;
       for (std::size_t i = 0; i < around.size() && ok; ++i)
-        ok = ratio(mesh, static_cast<std::size_t>(around[i])) >= std::min(min_ratio, before[i]);
+        ok = (after[i] = ratio(mesh, static_cast<std::size_t>(around[i]))) >=
+             std::min(min_ratio, before[i]);
       if (ok) {
         ++placed;
+        if (known)
+          for (std::size_t i = 0; i < around.size(); ++i) (*ratios)[around[i]] = after[i];
       } else {
         mesh.nodes[h] = old;
         ++kept;

@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "mesher/mesh/mixed_mesh.hpp"
+#include "mesher/stage_timer.hpp"
 
 namespace hexfem {
 
@@ -20,9 +21,10 @@ struct Order2Report {
   long bent_nodes = 0;          // interior mid-edge nodes moved for them
   long straightened_cells = 0;  // cells made valid by setting their curved nodes back (partly)
   long straightened_nodes = 0;
-  long hanging_placed = 0;     // NC faces' mid-diagonal nodes moved onto their quad's surface
-  long hanging_kept = 0;       // left where they were: a cell around them would have degraded
-  long nc_made_conformal = 0;  // NC faces made conformal instead (app/part_modal.cpp)
+  long hanging_placed = 0;        // NC faces' mid-diagonal nodes moved onto their quad's surface
+  long hanging_kept = 0;          // left where they were: a cell around them would have degraded
+  long nc_made_conformal = 0;     // NC faces made conformal instead (app/part_modal.cpp)
+  std::vector<StageTime> stages;  // the caller's steps, timed (app/part_modal.cpp)
 };
 
 // Where the mid-edge node of boundary edge (a, b) goes: the edge lies on CAD faces face1 and
@@ -46,25 +48,29 @@ using CellJacobianRatio = std::function<double(const MixedMesh& mesh, std::size_
 // A cell that cannot be brought to min_ratio this way has its moves undone (and is left to
 // straighten_invalid_cells). Deterministic: the cells in order, a fixed search pattern. The
 // search itself uses `search_ratio` (a cheaper check, e.g. at fewer points); `ratio` decides.
+// `ratios`, if given, is set to every cell's ratio as the mesh is left (for the steps below).
 void bend_interior_nodes(MixedMesh& mesh, const CellJacobianRatio& ratio,
                          const CellJacobianRatio& search_ratio, double min_ratio,
-                         Order2Report* report = nullptr);
+                         Order2Report* report = nullptr, std::vector<double>* ratios = nullptr);
 
 // Every cell whose ratio is below `min_ratio` gets its curved nodes set back towards their
 // edges' midpoints, by the first of 10 %, 20 %, ... 100 % of their offset that brings it to
 // min_ratio (its neighbours' shared edges move with them), while that raises its ratio;
 // repeated until no cell changes. Throws hexfem::Error naming the first cell still inverted
-// afterwards.
+// afterwards. `ratios`, if it has one entry per cell, is taken as every cell's ratio as the mesh
+// stands (as bend_interior_nodes leaves it), and is left so.
 void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
-                              Order2Report* report = nullptr);
+                              Order2Report* report = nullptr,
+                              std::vector<double>* ratios = nullptr);
 
 // At an NC quad face the triangles' diagonal has a mid-edge node the quad does not have. Straight,
 // it lies off the quad8's curved (twisted) surface: the solver cannot tie it to the quad's trace
 // there, so the face opens, and the cells on both sides overlap. Each such node is moved to the
 // quad8's point nearest to it, unless a cell around it would then fall below min_ratio (or below
 // its own ratio, if that was lower). Nodes on a side of another NC quad stay (that quad's own
-// tie depends on them). Call after straighten_invalid_cells.
+// tie depends on them). Call after straighten_invalid_cells. `ratios` as there.
 void place_hanging_nodes_on_quads(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
-                                  Order2Report* report = nullptr);
+                                  Order2Report* report = nullptr,
+                                  std::vector<double>* ratios = nullptr);
 
 }  // namespace hexfem

@@ -16,6 +16,7 @@
 #include "fem/jacobian_bounds.hpp"
 #include "mesher/high_order_nodes.hpp"
 #include "mesher/mesh/element_topology.hpp"
+#include "mesher/mesh/structured_box.hpp"
 
 namespace hexfem {
 namespace {
@@ -177,6 +178,47 @@ TEST(Order2Curving, AHex20FoldedAtACornerIsInverted) {
   EXPECT_LT(det_at(CellKind::Hex8, nodes, {-1, -1, -1}), 0);
   EXPECT_LT(element_jacobian_ratio_at_nodes_and_points(m, 0), 0);
   EXPECT_LT(element_jacobian_ratio(m, 0), 0);
+}
+
+// Boxes of tets and of hexes whose boundary mid-edge nodes are pushed off their faces by up to
+// 0.7 of a cell, in or out (a fixed pseudo-random pattern): some cells are bent, some
+// straightened. The steps keep every cell's ratio current when asked to (so that each pass need
+// not measure every cell again): the same nodes as without, and at the end the ratio of every
+// cell as element_jacobian_ratio finds it afresh.
+TEST(Order2Curving, TheRatiosKeptThroughTheStepsAreTheCellsRatios) {
+  for (const CellKind kind : {CellKind::Tet4, CellKind::Hex8}) {
+    const double cell = 0.25;
+    MixedMesh m = make_box_mesh({1, 1, 1}, 4, 4, 4, kind);
+    add_mid_edge_nodes(m, [cell](const Vec3& a, const Vec3& b, int f, int) {
+      Vec3 mid{(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2};
+      const auto h =
+          static_cast<std::uint32_t>(std::lround(1e3 * (mid[0] + 3 * mid[1] + 7 * mid[2])));
+      const double push = 0.7 * cell * (static_cast<double>(h * 2654435761u % 1000) / 500 - 1);
+      mid[(f - 1) / 2] += push;  // along the face's normal (faces 1..6: x, x, y, y, z, z)
+      return mid;
+    });
+    MixedMesh plain = m;
+    std::vector<double> ratios;
+    Order2Report r, rp;
+    bend_interior_nodes(m, element_jacobian_ratio, element_jacobian_ratio_at_nodes_and_points, kMin,
+                        &r, &ratios);
+    straighten_invalid_cells(m, element_jacobian_ratio, kMin, &r, &ratios);
+    bend_interior_nodes(plain, element_jacobian_ratio, element_jacobian_ratio_at_nodes_and_points,
+                        kMin, &rp);
+    straighten_invalid_cells(plain, element_jacobian_ratio, kMin, &rp);
+    // Tets are bent and straightened; hexes only straightened (their interior nodes cannot
+    // lift a corner folded by two curved edges of a face).
+    EXPECT_GT(r.straightened_cells, 0) << kind_name(kind, 2);
+    if (kind == CellKind::Tet4) {
+      EXPECT_GT(r.bent_cells, 0);
+    }
+    EXPECT_EQ(r.bent_cells, rp.bent_cells);
+    EXPECT_EQ(r.straightened_cells, rp.straightened_cells);
+    EXPECT_EQ(m.nodes, plain.nodes) << kind_name(kind, 2);
+    ASSERT_EQ(ratios.size(), m.num_cells());
+    for (std::size_t c = 0; c < m.num_cells(); ++c)
+      EXPECT_EQ(ratios[c], element_jacobian_ratio(m, c)) << kind_name(kind, 2) << " cell " << c;
+  }
 }
 
 }  // namespace
