@@ -38,7 +38,17 @@ PartModalResult run_part_modal(const CadModel& cad, const MeshOptions& mesh_opti
 // Makes an order-1 mesh order 2: mid-edge nodes, the boundary ones on the CAD geometry when
 // `cad` is given; a cell whose curving would leave min/max det J below 1e-4 first has its
 // interior mid-edge nodes moved to follow the boundary, and is straightened only if that fails.
-Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad);
+// With `allow_pyramids` false (--no-pyramids) the NC faces whose hanging node cannot be tied stay
+// as they are (Order2Report::nc_left_untied counts them) instead of being made conformal with a
+// pyramid and tets.
+Order2Report raise_to_order2(MixedMesh& mesh, const CadModel* cad, bool allow_pyramids = true);
+
+// raise_to_order2 on a part just meshed (mesh_part's `report`), and the report made to describe
+// the mesh that results: its measures again where NC faces were made conformal, the curved
+// cells' volume against the CAD's (and the volume warning from it), a warning for hanging nodes
+// left free. h: the size it was meshed at.
+Order2Report raise_part_to_order2(MixedMesh& mesh, const CadModel& cad, bool allow_pyramids,
+                                  double h, MeshReport& report);
 
 // The options to write `mesh` to `path`. At order 2 with NC faces the hanging mid-diagonal nodes
 // are tied as hexfem's solver ties them (fem/nc_ties.hpp): an .inp gets the ties as *EQUATION;

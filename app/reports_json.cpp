@@ -127,7 +127,8 @@ void to_json(nlohmann::json& j, const Order2Report& r) {
        {"straightened_cells", r.straightened_cells},
        {"hanging_placed", r.hanging_placed},
        {"hanging_kept", r.hanging_kept},
-       {"nc_made_conformal", r.nc_made_conformal}};
+       {"nc_made_conformal", r.nc_made_conformal},
+       {"nc_left_untied", r.nc_left_untied}};
   double total = 0;
   j["stages"] = nlohmann::json::array();
   for (const StageTime& t : r.stages) {

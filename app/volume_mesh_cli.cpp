@@ -17,9 +17,11 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
   MeshReport report;
   const CadModel cad = read_cad_to_mesh(a.file, a.options, report);
   MixedMesh mesh = mesh_part(cad, a.options, &report);
-  check_mesh_volume(report.mesh_volume, report.cad_volume, a.options.surface.h, a.force);
   Order2Report order2;
-  if (a.order == 2) order2 = raise_to_order2(mesh, &cad);
+  if (a.order == 2)
+    order2 =
+        raise_part_to_order2(mesh, cad, !a.options.volume.no_pyramids, a.options.surface.h, report);
+  check_mesh_volume(report.mesh_volume, report.cad_volume, a.options.surface.h, a.force);
   double write_seconds = 0;
   if (!a.output.empty()) {
     const auto t0 = std::chrono::steady_clock::now();

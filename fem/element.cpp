@@ -307,6 +307,22 @@ double element_jacobian_ratio_at_nodes_and_points(const MixedMesh& mesh, std::si
   return hi > 0 ? lo / hi : -1.0;
 }
 
+double element_volume(const MixedMesh& mesh, std::size_t c) {
+  Vec3 x[kMaxElementNodes];
+  cell_coordinates(mesh, c, x);
+  const ReferenceElement& ref = reference_element(mesh.cell_kind[c], mesh.order);
+  double v = 0;
+  for (std::size_t q = 0; q < ref.shape.size(); ++q)
+    v += ref.weight[q] * jacobian_determinant(ref.shape[q], x);
+  return v;
+}
+
+double mesh_volume(const MixedMesh& mesh) {
+  double v = 0;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) v += element_volume(mesh, c);
+  return v;
+}
+
 std::vector<std::array<double, 6>> element_strains(const ReferenceElement& ref, const Vec3* x,
                                                    const double* u) {
   std::vector<std::array<double, 6>> out;

@@ -90,6 +90,12 @@ double element_jacobian_ratio(const MixedMesh& mesh, std::size_t c);
 // The same over the production rule's points and the nodes only: a cheaper check for searches.
 double element_jacobian_ratio_at_nodes_and_points(const MixedMesh& mesh, std::size_t c);
 
+// The volume of cell c at the mesh's order (curved at order 2), and of all cells: det J over
+// the production rule, as the mass matrix integrates it (exact for hex20 and tet10, whose det J
+// the rules integrate exactly).
+double element_volume(const MixedMesh& mesh, std::size_t c);
+double mesh_volume(const MixedMesh& mesh);
+
 // Strains (xx, yy, zz, 2xy, 2yz, 2zx) at each quadrature point for nodal displacements
 // u (3n, DOF 3*i+a).
 std::vector<std::array<double, 6>> element_strains(const ReferenceElement& ref, const Vec3* x,

@@ -24,6 +24,7 @@ struct Order2Report {
   long hanging_placed = 0;        // NC faces' mid-diagonal nodes moved onto their quad's surface
   long hanging_kept = 0;          // left where they were: a cell around them would have degraded
   long nc_made_conformal = 0;     // NC faces made conformal instead (app/part_modal.cpp)
+  long nc_left_untied = 0;        // NC faces whose hanging node stays free (no pyramids asked for)
   std::vector<StageTime> stages;  // the caller's steps, timed (app/part_modal.cpp)
 };
 

@@ -157,6 +157,16 @@ MixedMesh mesh_once_or_refined(const CadModel& cad, const MeshOptions& options, 
 
 }  // namespace
 
+std::string volume_warning(double volume_error, double h) {
+  if (!(std::abs(volume_error) > kVolumeErrorWarning)) return "";
+  char buf[300];
+  std::snprintf(buf, sizeof buf,
+                "the mesh volume is %+.1f %% off the CAD volume: h = %g is coarse for this "
+                "part's thin or curved features (a smaller --h or --curvature N helps)",
+                100 * volume_error, h);
+  return buf;
+}
+
 MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
   const double h = options.surface.h;
@@ -312,14 +322,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   MixedMesh mesh = std::move(kept.back().mesh);
   // Chords across thin or strongly curved features cut volume off at a coarse h: legitimate,
   // but a user expecting the part's mass must hear of it.
-  if (std::abs(r.volume_error) > kVolumeErrorWarning) {
-    char buf[300];
-    std::snprintf(buf, sizeof buf,
-                  "the mesh volume is %+.1f %% off the CAD volume: h = %g is coarse for this "
-                  "part's thin or curved features (a smaller --h or --curvature N helps)",
-                  100 * r.volume_error, h);
-    r.warnings.push_back(buf);
-  }
+  if (const std::string w = volume_warning(r.volume_error, h); !w.empty()) r.warnings.push_back(w);
   // The volume-gap stage keeps the mesh within max_total_gap of the tets' volume by sending
   // elements back to tets. Where the hexes' bilinear faces on curved thin walls lose volume
   // everywhere a little (1385_Laufrad at h = 8: 3.4e-3), it sends back half the hexes and H_vol

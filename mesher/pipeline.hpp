@@ -40,6 +40,10 @@ struct MeshReport {
   std::vector<int> refined_faces;
 };
 
+// The warning a mesh `volume_error` ((mesh - CAD) / CAD) off the CAD's volume at size h gets
+// (mesh_part adds it to MeshReport::warnings); empty within 2 %.
+std::string volume_warning(double volume_error, double h);
+
 // Hex-dominant mesh of every solid of the part. Throws hexfem::Error (one line) on bad options,
 // an h that would give more than max_volume_points without surface.force, or a failing stage.
 MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport* report = nullptr);

@@ -221,5 +221,26 @@ TEST(Order2Curving, TheRatiosKeptThroughTheStepsAreTheCellsRatios) {
   }
 }
 
+// The unit cube as a hex20 with the mid-edge nodes of its top face raised by d: the top becomes
+// the quad8 surface z = 1 + d (sum of the four mid-edge functions), each of which integrates to
+// a third of the face, so by hand V = 1 + 4d/3 (the straight cube: 1).
+TEST(Order2Curving, AHex20WithARaisedTopHasTheVolumeWorkedOutByHand) {
+  std::vector<Vec3> nodes = reference_nodes(CellKind::Hex8, 2);
+  for (Vec3& p : nodes)
+    for (double& c : p) c = (c + 1) / 2;
+  MixedMesh m = one_cell(CellKind::Hex8, nodes);
+  EXPECT_NEAR(mesh_volume(m), 1, 1e-14);
+  const double d = 0.1;
+  int raised = 0;
+  for (std::size_t i = 8; i < nodes.size(); ++i)
+    if (nodes[i][2] == 1) {
+      m.nodes[i][2] += d;
+      ++raised;
+    }
+  ASSERT_EQ(raised, 4);
+  EXPECT_NEAR(mesh_volume(m), 1 + 4 * d / 3, 1e-14);
+  EXPECT_NEAR(element_volume(m, 0), 1 + 4 * d / 3, 1e-14);
+}
+
 }  // namespace
 }  // namespace hexfem

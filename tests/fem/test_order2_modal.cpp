@@ -259,5 +259,55 @@ TEST(Order2Modal, ItsOwnSecondOrderExportSolvesTheSame) {
   }
 }
 
+// `hexfem mesh --order 2` reports the mesh it writes. The sphere at h = 1.247: NC faces whose
+// hanging node cannot be tied are made conformal (more pyramids and tets than the order-1 mesh
+// had), and the report's cell counts, NC count and volume are those `hexfem stats` and the
+// solver find in the written file; the volume is the curved cells' (the sphere's 3053.64 mm^3
+// to 1e-4), not the straight cells' (1 % less). With --no-pyramids no pyramid is written at all.
+TEST(Order2Modal, MeshReportDescribesTheWrittenOrder2Mesh) {
+  int code = 0;
+  const std::string dir = std::string(HEXFEM_WORK_DIR);
+  const std::string out =
+      run("mesh " + std::string(HEXFEM_TEST_DATA) + "/sphere.stp --h 1.247 --order 2 --json -o " +
+              dir + "/o2_sphere.msh",
+          &code);
+  ASSERT_EQ(code, 0) << out;
+  const nlohmann::json j = nlohmann::json::parse(out.substr(out.find('{')));
+  ASSERT_GT(j["order2"]["nc_made_conformal"], 0);
+  const std::string stats = run("stats --json " + dir + "/o2_sphere.msh", &code);
+  ASSERT_EQ(code, 0) << stats;
+  const nlohmann::json s = nlohmann::json::parse(stats.substr(stats.find('{')));
+  EXPECT_EQ(j["cells"], s["cells_per_kind"]) << j["cells"] << " vs " << s["cells_per_kind"];
+  EXPECT_EQ(j["nc_quads"], s["nonconformal_quads"]);
+  const double sphere = 4.0 / 3.0 * M_PI * 9 * 9 * 9;  // radius 9 mm
+  EXPECT_NEAR(j["mesh_volume"].get<double>() / sphere, 1, 1e-4);
+  EXPECT_LT(s["volume"].get<double>() / sphere, 0.995);  // the straight cells' (stats)
+  const std::string np = run("mesh " + std::string(HEXFEM_TEST_DATA) +
+                                 "/sphere.stp --h 1.247 --order 2 --no-pyramids --json -o " + dir +
+                                 "/o2_sphere_np.msh",
+                             &code);
+  ASSERT_EQ(code, 0) << np;
+  const nlohmann::json jn = nlohmann::json::parse(np.substr(np.find('{')));
+  EXPECT_EQ(jn["cells"]["pyramid5"], 0);
+  EXPECT_GT(jn["order2"]["nc_left_untied"], 0);
+  const std::string sn = run("stats --json " + dir + "/o2_sphere_np.msh", &code);
+  EXPECT_EQ(nlohmann::json::parse(sn.substr(sn.find('{')))["cells_per_kind"]["pyramid5"], 0);
+}
+
+// A coarse sphere at order 2 whose straight cells are 19 % short of the CAD volume but whose
+// curved cells are within 1 %: meshed and solved, not refused as too coarse.
+TEST(Order2Modal, TheVolumeCheckReadsTheCurvedCells) {
+  int code = 0;
+  const std::string out = run("modal " + std::string(HEXFEM_TEST_DATA) +
+                                  "/sphere.stp --h 6 --curvature 4 --free --modes 7 --json",
+                              &code);
+  ASSERT_EQ(code, 0) << out;
+  const nlohmann::json j = nlohmann::json::parse(out.substr(out.find('{')));
+  const double sphere = 4.0 / 3.0 * M_PI * 9 * 9 * 9 * 1e-9;  // m^3
+  EXPECT_NEAR(j["volume_m3"].get<double>() / sphere, 1, 0.01);
+  EXPECT_NEAR(j["mesh"]["report"]["volume_error"].get<double>(), 0, 0.01);
+  EXPECT_LT(j["mesh"]["report"]["volume_mixed"].get<double>() / (sphere * 1e9), 0.85);
+}
+
 }  // namespace
 }  // namespace hexfem
