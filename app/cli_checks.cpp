@@ -2,8 +2,10 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <regex>
 
@@ -32,10 +34,19 @@ std::string folder_of(const std::string& path) {
 void check_folder(const std::string& option, const std::string& path) {
   const std::string dir = folder_of(path);
   std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw Error(option + " '" + path + "': '" + dir + "' is a file, not a folder");
   if (!fs::is_directory(dir, ec))
     throw Error(option + " '" + path + "': the folder '" + dir + "' does not exist");
-  if (::access(dir.c_str(), W_OK | X_OK) != 0)
-    throw Error(option + " '" + path + "': the folder '" + dir + "' is not writable");
+  // A file made and removed there: permission bits say nothing to root, nor on a read-only
+  // mount or /sys, where the write would fail only after the work.
+  std::string probe = (fs::path(dir) / ".hexfem-probe-XXXXXX").string();
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0)
+    throw Error(option + " '" + path + "': the folder '" + dir + "' is not writable (" +
+                std::strerror(errno) + ")");
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
 bool same_file(const std::string& a, const std::string& b) {

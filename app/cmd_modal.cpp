@@ -41,6 +41,7 @@ struct Args {
   ModalCliOptions modal;  // --fix --material --E --nu --rho --modes --hex8 --force
   bool free = false;
   std::string units = "SI";
+  CLI::Option* units_given = nullptr;  // a CAD part's lengths are mm: --units is for meshes
   bool json = false;
   std::string modes_out;
   std::string ccx_deck;  // --ccx-deck JOB.inp (and JOB_mesh.inp)
@@ -106,7 +107,12 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
   if (cad_input) {
     check_finite("--h", a.h);
     if (!(a.h > 0)) throw Error("a CAD input needs a mesh size: --h > 0 (mm)");
+    if (given(a.units_given))
+      throw Error(
+          "--units is for a mesh input; a CAD part is meshed in millimetres (its file "
+          "unit converted) and solved in SI");
   } else {
+    if (a.modal.force) throw Error("--force is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.h != 0) throw Error("--h is for CAD input; '" + a.mesh + "' is already a mesh");
     if (!a.mesh_out.empty())
       throw Error("--mesh-out is for CAD input; '" + a.mesh + "' is already a mesh");
@@ -356,7 +362,9 @@ RegisterCommand reg{
        sub.add_option("--mesh-out", a->mesh_out, "CAD input: also write the mesh (.msh .vtu .inp)");
        add_modal_options(sub, a->modal);
        sub.add_flag("--free", a->free, "free-free analysis (no fixed DOF)");
-       sub.add_option("--units", a->units, "length unit of the mesh: SI (m, default) or mm");
+       a->units_given = sub.add_option("--units", a->units,
+                                       "mesh input: length unit of the mesh, SI (m, default) or "
+                                       "mm (hexfem writes its meshes in mm)");
        sub.add_flag("--json", a->json, "print JSON on stdout");
        sub.add_option("--modes-out", a->modes_out, "write mode shapes to this .vtu (ParaView)");
        sub.add_option("--ccx-deck", a->ccx_deck,

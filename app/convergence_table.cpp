@@ -81,6 +81,22 @@ std::string fmt(const char* f, double v) {
   std::snprintf(buf, sizeof buf, f, v);
   return buf;
 }
+
+// A line naming each size that gave the same mesh as the size before, or nothing.
+std::string same_mesh_note(const ConvergenceStudy& s) {
+  std::string out;
+  for (std::size_t r = 1; r < s.rows.size(); ++r) {
+    if (!s.same_mesh(r)) continue;
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "h = %g gave the same mesh as h = %g (%ld nodes: a size the part's curvature or "
+                  "features set): no order from it\n",
+                  s.rows[r].h, s.rows[r - 1].h, s.rows[r].nodes);
+    out += buf;
+  }
+  return out;
+}
+
 }  // namespace
 
 int ConvergenceStudy::num_frequencies() const {
@@ -94,15 +110,20 @@ double ConvergenceStudy::error(std::size_t r, int i) const {
   return (rows[r].frequencies[i] - reference[i]) / reference[i];
 }
 
+bool ConvergenceStudy::same_mesh(std::size_t r) const {
+  return r > 0 && r < rows.size() && rows[r].nodes > 0 && rows[r].nodes == rows[r - 1].nodes &&
+         rows[r].cells == rows[r - 1].cells;
+}
+
 double ConvergenceStudy::observed_order(std::size_t r, int i) const {
-  if (r == 0) return kNaN;
+  if (r == 0 || same_mesh(r)) return kNaN;
   const double ratio = std::log(rows[r - 1].h / rows[r].h);
   if (!reference.empty()) {
     const double e0 = std::abs(error(r - 1, i)), e1 = std::abs(error(r, i));
     if (!(e0 > 0 && e1 > 0)) return kNaN;
     return std::log(e0 / e1) / ratio;
   }
-  if (r < 2) return kNaN;
+  if (r < 2 || same_mesh(r - 1)) return kNaN;
   const double d0 = std::abs(rows[r - 1].frequencies[i] - rows[r - 2].frequencies[i]);
   const double d1 = std::abs(rows[r].frequencies[i] - rows[r - 1].frequencies[i]);
   if (!(d0 > 0 && d1 > 0)) return kNaN;
@@ -111,6 +132,7 @@ double ConvergenceStudy::observed_order(std::size_t r, int i) const {
 
 bool ConvergenceStudy::monotone(int i) const {
   for (std::size_t r = 1; r < rows.size(); ++r) {
+    if (same_mesh(r) || (reference.empty() && same_mesh(r - 1))) continue;
     if (!reference.empty()) {
       if (std::abs(error(r, i)) > std::abs(error(r - 1, i))) return false;
     } else if (r >= 2) {
@@ -171,6 +193,7 @@ std::string convergence_text(const ConvergenceStudy& s) {
       out += fmt("%-12.2f", s.reference[i]) + "          ";
     out += "(" + s.reference_source + ")\n";
   }
+  out += same_mesh_note(s);
   out += "observed order (last pair):";
   for (int i = 0; i < nf; ++i)
     out += " f" + std::to_string(i + 1) + " " + fmt("%.2f", s.observed_order(s.rows.size() - 1, i));
@@ -210,7 +233,8 @@ std::string convergence_markdown(const ConvergenceStudy& s) {
       out += i < static_cast<int>(s.reference.size()) ? fmt(" %.2f | |", s.reference[i]) : " - | |";
     out += "\n\nReference: " + s.reference_source + "\n";
   }
-  out += "\nObserved order (finest pair):";
+  out += "\n" + same_mesh_note(s);
+  out += "Observed order (finest pair):";
   for (int i = 0; i < nf; ++i)
     out += " f" + std::to_string(i + 1) + " " +
            fmt("%.2f", s.observed_order(s.rows.size() - 1, i)) + ";";

@@ -72,7 +72,8 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                "CAD input: size the edge points by the size field, not by the spacing their "
                "edges got (as on `mesh`)");
   sub.add_flag("--force", o.force,
-               "CAD input: accept a mesh whose volume is more than 10 % off the CAD volume");
+               "CAD input: allow more than 1 M surface points or 20 M interior points (estimated "
+               "before the work), and a mesh whose volume is more than 10 % off the CAD volume");
 }
 
 std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::string>& fix) {
@@ -153,6 +154,7 @@ MeshOptions cad_mesh_options(const ModalCliOptions& o, double h, const GradedEdg
   m.volume.no_pyramids = o.no_pyramids;
   if (o.no_edge_spacing_size) m.surface.sizes_from_edge_spacing = false;
   m.read.glue = o.glue;
+  m.surface.force = o.force;  // the point limits' error names --force, as on `mesh`
   return m;
 }
 

@@ -67,6 +67,7 @@ MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& f
   std::future<QuadFaceCounts> counts =
       std::async(std::launch::async, [&faces] { return count_quad_faces(faces); });
   MeshStats s;
+  s.order = mesh.order;
   s.num_nodes = mesh.nodes.size();
   s.num_cells = mesh.num_cells();
   s.num_boundary_faces = mesh.num_bfaces();
@@ -154,6 +155,7 @@ MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& f
 }
 
 void to_json(nlohmann::json& j, const MeshStats& s) {
+  j["order"] = s.order;
   j["nodes"] = s.num_nodes;
   j["cells"] = s.num_cells;
   nlohmann::json per_kind, min_sj;
@@ -182,7 +184,7 @@ std::string stats_to_text(const MeshStats& s) {
   char buf[2048];
   std::snprintf(buf, sizeof buf,
                 "nodes            %zu\n"
-                "cells            %zu (hex8 %zu, wedge6 %zu, pyramid5 %zu, tet4 %zu)\n"
+                "cells            %zu (%s %zu, %s %zu, %s %zu, %s %zu)\n"
                 "H_nbr            %.2f %%\n"
                 "H_vol            %.2f %%\n"
                 "Q (hex mean/min) %.4f / %.4f\n"
@@ -192,9 +194,11 @@ std::string stats_to_text(const MeshStats& s) {
                 "NC               %.2f %% (%zu of %zu interior quad faces)\n"
                 "boundary         %s (%zu faces, %zu open edges)\n"
                 "volume           %.10g\n",
-                s.num_nodes, s.num_cells, s.cells_per_kind[3], s.cells_per_kind[2],
-                s.cells_per_kind[1], s.cells_per_kind[0], s.h_nbr, s.h_vol, s.q_mean, s.q_min,
-                s.min_sj_per_kind[3], s.min_sj_per_kind[2], s.min_sj_per_kind[1],
+                s.num_nodes, s.num_cells, kind_name(CellKind::Hex8, s.order), s.cells_per_kind[3],
+                kind_name(CellKind::Wedge6, s.order), s.cells_per_kind[2],
+                kind_name(CellKind::Pyramid5, s.order), s.cells_per_kind[1],
+                kind_name(CellKind::Tet4, s.order), s.cells_per_kind[0], s.h_nbr, s.h_vol, s.q_mean,
+                s.q_min, s.min_sj_per_kind[3], s.min_sj_per_kind[2], s.min_sj_per_kind[1],
                 s.min_sj_per_kind[0], s.inverted, s.degenerate, kDegenerateScaledJacobian,
                 s.nc_percent, s.nonconformal_quads, s.interior_quads,
                 s.watertight ? "watertight" : "NOT watertight", s.boundary_faces_derived,

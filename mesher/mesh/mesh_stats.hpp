@@ -12,6 +12,8 @@
 namespace hexfem {
 
 struct MeshStats {
+  int order = 1;  // the mesh's; the measures are of its corners (hexfem stats puts the curved
+                  // cells' volume and validity in `volume` and `inverted` at order 2)
   std::size_t num_nodes = 0;
   std::array<std::size_t, kNumCellKinds> cells_per_kind{};  // indexed by CellKind
   std::size_t num_cells = 0;

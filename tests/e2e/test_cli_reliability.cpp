@@ -81,7 +81,17 @@ TEST(Reliability, OutputPathsAreCheckedBeforeTheWork) {
                ".vtu");
   expect_error("converge " + part + " --h 0.3,0.2 --fix face:1 -o /nonexistent-hexfem/c",
                "does not exist");
+  // A folder no file can be made in, whatever its permission bits say (to root too): refused
+  // before the work, and the other outputs of the run not written either.
+  expect_error("mesh " + part + " --h 0.3 -o /proc/x.msh", "is not writable");
+  expect_error("modal " + part + " --h 0.3 --fix face:1 --mesh-out " + (dir / "ok.msh").string() +
+                   " --modes-out /proc/m.vtu",
+               "is not writable");
   EXPECT_TRUE(nothing_in(dir));
+  const fs::path file = fresh_dir("rel_paths_file") / "f";
+  std::ofstream(file) << "a file\n";
+  expect_error("mesh " + part + " --h 0.3 -o " + (file / "x.msh").string(),
+               "is a file, not a folder");
 }
 
 // Item 9b: extensions in any case, for every output option.

@@ -261,9 +261,9 @@ TEST(Order2Modal, ItsOwnSecondOrderExportSolvesTheSame) {
 
 // `hexfem mesh --order 2` reports the mesh it writes. The sphere at h = 1.247: NC faces whose
 // hanging node cannot be tied are made conformal (more pyramids and tets than the order-1 mesh
-// had), and the report's cell counts, NC count and volume are those `hexfem stats` and the
-// solver find in the written file; the volume is the curved cells' (the sphere's 3053.64 mm^3
-// to 1e-4), not the straight cells' (1 % less). With --no-pyramids no pyramid is written at all.
+// had), and the report's cell counts, NC count and volume are those `hexfem stats` finds in the
+// written file; the volume, in both, is the curved cells' (the sphere's 3053.64 mm^3 to 1e-4),
+// not the straight cells' (1 % less). With --no-pyramids no pyramid is written at all.
 TEST(Order2Modal, MeshReportDescribesTheWrittenOrder2Mesh) {
   int code = 0;
   const std::string dir = std::string(HEXFEM_WORK_DIR);
@@ -281,7 +281,9 @@ TEST(Order2Modal, MeshReportDescribesTheWrittenOrder2Mesh) {
   EXPECT_EQ(j["nc_quads"], s["nonconformal_quads"]);
   const double sphere = 4.0 / 3.0 * M_PI * 9 * 9 * 9;  // radius 9 mm
   EXPECT_NEAR(j["mesh_volume"].get<double>() / sphere, 1, 1e-4);
-  EXPECT_LT(s["volume"].get<double>() / sphere, 0.995);  // the straight cells' (stats)
+  EXPECT_NEAR(s["volume"].get<double>(), j["mesh_volume"].get<double>(), 1e-9 * sphere);
+  EXPECT_LT(j["volume_mixed"].get<double>() / sphere, 0.995);  // the straight cells'
+  EXPECT_EQ(s["order"], 2);
   const std::string np = run("mesh " + std::string(HEXFEM_TEST_DATA) +
                                  "/sphere.stp --h 1.247 --order 2 --no-pyramids --json -o " + dir +
                                  "/o2_sphere_np.msh",
