@@ -28,9 +28,13 @@ RegisterCommand reg{{"stats", "Element counts, H_nbr, H_vol, Q, NC, validity and
                            // The corners alone miss the curved boundary (a coarse sphere: 1 %
                            // of its volume) and a cell folded between its nodes.
                            s.volume = mesh_volume(mesh);
-                           s.inverted = 0;
-                           for (std::size_t c = 0; c < mesh.num_cells(); ++c)
-                             s.inverted += !(element_jacobian_ratio(mesh, c) > 0);
+                           long inverted = 0;
+                           const auto n = static_cast<std::ptrdiff_t>(mesh.num_cells());
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : inverted)
+                           for (std::ptrdiff_t c = 0; c < n; ++c)
+                             inverted +=
+                                 !(element_jacobian_ratio(mesh, static_cast<std::size_t>(c)) > 0);
+                           s.inverted = static_cast<std::size_t>(inverted);
                          }
                          if (*json)
                            std::printf("%s\n", nlohmann::json(s).dump(2).c_str());
