@@ -146,7 +146,8 @@ RegisterCommand reg{
            ->delimiter(',');
        add_modal_options(sub, a->modal);
        sub.add_option("--reference", a->reference, "JSON with \"reference_hz\": [...]");
-       sub.add_option("-o,--output", a->output, "stem of the CSV/Markdown/PNG files");
+       sub.add_option("-o,--output", a->output, "stem of the CSV/Markdown/PNG files")
+           ->check(kNonEmptyPath);
        sub.add_flag("--json", a->json, "print the study as JSON");
        return [a] { return run(*a); };
      }}};

@@ -153,7 +153,8 @@ RegisterCommand reg{
        sub.add_option("--dim", a->dim, "2 = surface mesh, 3 = volume mesh");
        sub.add_option("--order", a->order,
                       "element order: 1 (default) or 2 (mid-edge nodes on the CAD geometry)");
-       sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)");
+       sub.add_option("-o,--output", a->output, "output mesh (.msh, .vtu, .inp)")
+           ->check(kNonEmptyPath);
        sub.add_flag("--json", a->json, "print the report as JSON on stdout");
        sub.add_flag("--glue", a->glue, kGlueHelp);
        sub.add_flag(

@@ -359,17 +359,20 @@ RegisterCommand reg{
                       "is meshed first with --h")
            ->required();
        sub.add_option("--h", a->h, "CAD input: target element size in mm");
-       sub.add_option("--mesh-out", a->mesh_out, "CAD input: also write the mesh (.msh .vtu .inp)");
+       sub.add_option("--mesh-out", a->mesh_out, "CAD input: also write the mesh (.msh .vtu .inp)")
+           ->check(kNonEmptyPath);
        add_modal_options(sub, a->modal);
        sub.add_flag("--free", a->free, "free-free analysis (no fixed DOF)");
        a->units_given = sub.add_option("--units", a->units,
                                        "mesh input: length unit of the mesh, SI (m, default) or "
                                        "mm (hexfem writes its meshes in mm)");
        sub.add_flag("--json", a->json, "print JSON on stdout");
-       sub.add_option("--modes-out", a->modes_out, "write mode shapes to this .vtu (ParaView)");
+       sub.add_option("--modes-out", a->modes_out, "write mode shapes to this .vtu (ParaView)")
+           ->check(kNonEmptyPath);
        sub.add_option("--ccx-deck", a->ccx_deck,
                       "also write this analysis as a CalculiX deck JOB.inp (+ JOB_mesh.inp): "
-                      "materials, fixed DOFs, *FREQUENCY; `ccx JOB` checks the frequencies");
+                      "materials, fixed DOFs, *FREQUENCY; `ccx JOB` checks the frequencies")
+           ->check(kNonEmptyPath);
        return [a] { return run(*a); };
      }}};
 

@@ -19,6 +19,11 @@ struct CommandSpec {
 
 std::vector<CommandSpec>& command_registry();
 
+// For an output path option: "" is refused (it read as "no output": nothing written, exit 0).
+inline const CLI::Validator kNonEmptyPath(
+    [](std::string& s) { return s.empty() ? std::string("the path is empty") : std::string(); }, "",
+    "non-empty path");
+
 struct RegisterCommand {
   explicit RegisterCommand(CommandSpec spec) { command_registry().push_back(std::move(spec)); }
 };

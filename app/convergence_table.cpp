@@ -251,7 +251,7 @@ std::string convergence_csv(const ConvergenceStudy& s) {
   out += "\n";
   for (std::size_t r = 0; r < s.rows.size(); ++r) {
     const auto& row = s.rows[r];
-    out += fmt("%.17g", row.h) + "," + std::to_string(row.nodes) + "," + std::to_string(row.cells) +
+    out += fmt("%.15g", row.h) + "," + std::to_string(row.nodes) + "," + std::to_string(row.cells) +
            "," + fmt("%.4f", row.h_nbr) + "," + fmt("%.4f", row.h_vol) + "," +
            fmt("%.3f", row.seconds);
     for (int i = 0; i < nf; ++i) {

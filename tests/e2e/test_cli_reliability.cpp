@@ -88,6 +88,8 @@ TEST(Reliability, OutputPathsAreCheckedBeforeTheWork) {
                    " --modes-out /proc/m.vtu",
                "is not writable");
   EXPECT_TRUE(nothing_in(dir));
+  expect_error("mesh " + part + " --h 0.3 -o ''", "the path is empty");  // was: no output, exit 0
+  expect_error("modal " + part + " --h 0.3 --free --ccx-deck ''", "the path is empty");
   const fs::path file = fresh_dir("rel_paths_file") / "f";
   std::ofstream(file) << "a file\n";
   expect_error("mesh " + part + " --h 0.3 -o " + (file / "x.msh").string(),
