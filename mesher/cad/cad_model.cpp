@@ -39,7 +39,9 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <iterator>
+#include <sstream>
 
 #include "mesher/cad/cad_impl.hpp"
 #include "mesher/cad/step_check.hpp"
@@ -164,11 +166,55 @@ TopoDS_Shape read_iges(const fs::path& path, CadModel::Impl& m) {
   return reader.OneShape();
 }
 
+// Holds std::cout's output while it lives. OCCT's BREP reader writes its complaints about a
+// damaged file ("Not a TShape table", "Not a Curve table", ...) straight to std::cout, past the
+// Message printers silence_occt removes; hexfem's stdout carries --json output.
+class CoutCapture {
+ public:
+  CoutCapture() : old_(std::cout.rdbuf(text_.rdbuf())) {}
+  ~CoutCapture() { std::cout.rdbuf(old_); }
+  CoutCapture(const CoutCapture&) = delete;
+  CoutCapture& operator=(const CoutCapture&) = delete;
+
+  // What was written, its lines joined by "; " (the error stays one line).
+  std::string text() const {
+    std::string out;
+    std::istringstream in(text_.str());
+    for (std::string line; std::getline(in, line);) {
+      while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back())))
+        line.pop_back();
+      if (line.empty()) continue;
+      out += (out.empty() ? "" : "; ") + line;
+    }
+    return out;
+  }
+
+ private:
+  std::ostringstream text_;
+  std::streambuf* old_;
+};
+
 TopoDS_Shape read_brep(const fs::path& path, CadModel::Impl& m) {
   TopoDS_Shape shape;
-  BRep_Builder builder;
-  if (!BRepTools::Read(shape, path.string().c_str(), builder) || shape.IsNull())
-    throw Error("'" + path.string() + "' is not a readable OCCT BREP file");
+  bool ok = false;
+  std::string why;
+  {
+    CoutCapture capture;
+    try {
+      BRep_Builder builder;
+      ok = BRepTools::Read(shape, path.string().c_str(), builder);
+    } catch (const Standard_Failure& e) {
+      // A truncated file ends in a lookup of a shape that was never read
+      // ("NCollection_IndexedMap::FindKey"): the file is at fault, not OCCT.
+      why = e.GetMessageString();
+      ok = false;
+    }
+    const std::string said = capture.text();
+    if (!said.empty()) why = why.empty() ? said : said + "; " + why;
+  }
+  if (!ok || shape.IsNull())
+    throw Error("'" + path.string() + "' is not a readable OCCT BREP file" +
+                (why.empty() ? "" : " (" + why + ")"));
   m.file_unit = "mm (BREP has no unit; assumed)";
   return shape;
 }

@@ -237,6 +237,36 @@ TEST(CadModel, BadInputGivesOneLineErrors) {
   expect_error(data("SOURCES.md"), "unknown CAD format");
 }
 
+// The first `n` bytes of a data file, written to the work dir as `name`; returns its path.
+std::string truncated_copy(const std::string& from, std::size_t n, const std::string& name) {
+  const std::string all = cadtest::file_bytes(data(from));
+  std::ofstream(work(name), std::ios::binary) << all.substr(0, std::min(n, all.size()));
+  return work(name).string();
+}
+
+// OCCT's BREP reader prints its complaints on std::cout ("Not a TShape table"), where hexfem
+// writes --json: nothing may reach stdout, and the error says what OCCT found. A file cut near
+// its end fails on a lookup of a shape never read (NCollection_IndexedMap::FindKey): the
+// error must still say the file is not readable, not blame OpenCASCADE.
+TEST(CadModel, DamagedBrepPrintsNothing) {
+  const std::size_t size = cadtest::file_bytes(data("Cone_1.brep")).size();
+  for (const std::size_t n : {std::size_t{1000}, std::size_t{5000}, size - 88}) {
+    SCOPED_TRACE(n);
+    const std::string path = truncated_copy("Cone_1.brep", n, "cut.brep");
+    testing::internal::CaptureStdout();
+    std::string what;
+    try {
+      CadModel::read(path);
+    } catch (const Error& e) {
+      what = e.what();
+    }
+    EXPECT_EQ(testing::internal::GetCapturedStdout(), "");
+    EXPECT_NE(what.find("'" + path + "' is not a readable OCCT BREP file"), std::string::npos)
+        << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
 // The entity-number check (issue 14: OpenCASCADE crashed on "#1e999", numbers past 2^31 - 1 and
 // references to undefined entities), on texts whose answer is read off by hand.
 TEST(StepEntityCheck, NumbersAndReferences) {
