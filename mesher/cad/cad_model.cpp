@@ -13,8 +13,6 @@
 #include <Bnd_Box.hxx>
 #include <GCPnts_AbscissaPoint.hxx>
 #include <GProp_GProps.hxx>
-#include <IGESControl_Reader.hxx>
-#include <IGESData_IGESModel.hxx>
 #include <Interface_Check.hxx>
 #include <Interface_InterfaceModel.hxx>
 #include <Interface_Static.hxx>
@@ -49,26 +47,14 @@
 
 namespace hexfem {
 
-namespace {
-
-namespace fs = std::filesystem;
-
-// OCCT prints warnings on stdout by default; hexfem's stdout carries --json output.
-void silence_occt() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
-  });
-}
-
-std::string lower(std::string s) {
+std::string lower_case(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
 }
 
 // Millimetres per unit for the unit names STEP and IGES files use.
 double mm_per_unit(const std::string& name) {
-  const std::string n = lower(name);
+  const std::string n = lower_case(name);
   if (n == "mm" || n == "millimetre" || n == "millimeter") return 1.0;
   if (n == "m" || n == "metre" || n == "meter") return 1000.0;
   if (n == "cm" || n == "centimetre" || n == "centimeter") return 10.0;
@@ -79,6 +65,18 @@ double mm_per_unit(const std::string& name) {
   if (n == "mil") return 0.0254;
   if (n == "mi" || n == "mile") return 1609344.0;
   return 0.0;  // unknown
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// OCCT prints warnings on stdout by default; hexfem's stdout carries --json output.
+void silence_occt() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
+  });
 }
 
 std::string read_head(const fs::path& path, std::size_t n) {
@@ -126,41 +124,16 @@ TopoDS_Shape read_step(const fs::path& path, CadModel::Impl& m) {
   check_step_entities(path, reader);
   TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
   reader.FileUnits(lengths, angles, solid_angles);
-  m.file_unit =
-      lengths.IsEmpty() ? std::string("mm (none declared)") : lower(lengths.First().ToCString());
+  m.file_unit = lengths.IsEmpty() ? std::string("mm (none declared)")
+                                  : lower_case(lengths.First().ToCString());
   if (!lengths.IsEmpty()) {
     const double s = mm_per_unit(m.file_unit);
     if (s == 0.0) throw Error("STEP file unit '" + m.file_unit + "' is not supported");
     m.unit_scale = s;
   }
   for (int i = 2; i <= lengths.Length(); ++i)
-    if (lower(lengths.Value(i).ToCString()) != m.file_unit)
+    if (lower_case(lengths.Value(i).ToCString()) != m.file_unit)
       m.warnings.push_back("the STEP file mixes length units; each was converted to mm");
-  if (reader.TransferRoots() == 0 || reader.NbShapes() == 0)
-    throw Error("'" + path.string() + "' contains no shape that can be transferred");
-  return reader.OneShape();
-}
-
-TopoDS_Shape read_iges(const fs::path& path, CadModel::Impl& m) {
-  IGESControl_Reader reader;
-  Interface_Static::SetCVal("xstep.cascade.unit", "MM");
-  if (reader.ReadFile(path.string().c_str()) != IFSelect_RetDone)
-    throw Error("'" + path.string() + "' is not a readable IGES file");
-  const auto& global = reader.IGESModel()->GlobalSection();
-  const Handle(TCollection_HAsciiString) name = global.UnitName();
-  // IGES global section unit flag (IGES 5.3, section 2.2.4.3, parameter 14).
-  static const std::array<const char*, 12> kFlagUnits = {
-      "", "inch", "mm", "", "ft", "mi", "m", "km", "mil", "um", "cm", "microinch"};
-  const int flag = global.UnitFlag();
-  std::string unit = flag > 0 && flag < 12 ? kFlagUnits[flag] : "";
-  if (unit.empty() && !name.IsNull()) unit = lower(name->ToCString());
-  if (unit == "microinch") {
-    m.unit_scale = 25.4e-6;
-  } else {
-    m.unit_scale = mm_per_unit(unit);
-  }
-  if (m.unit_scale == 0.0) throw Error("IGES file unit '" + unit + "' is not supported");
-  m.file_unit = unit;
   if (reader.TransferRoots() == 0 || reader.NbShapes() == 0)
     throw Error("'" + path.string() + "' contains no shape that can be transferred");
   return reader.OneShape();
@@ -545,7 +518,7 @@ CadModel CadModel::read(const std::filesystem::path& path, const CadReadOptions&
 
   auto impl = std::make_unique<Impl>();
   Impl& m = *impl;
-  const std::string ext = lower(path.extension().string());
+  const std::string ext = lower_case(path.extension().string());
   try {
     TopoDS_Shape shape;
     if (ext == ".step" || ext == ".stp") {
