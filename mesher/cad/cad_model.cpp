@@ -40,6 +40,8 @@
 #include <iostream>
 #include <iterator>
 #include <sstream>
+#include <streambuf>
+#include <utility>
 
 #include "mesher/cad/cad_impl.hpp"
 #include "mesher/cad/step_check.hpp"
@@ -167,25 +169,52 @@ class CoutCapture {
   std::streambuf* old_;
 };
 
+// A BREP file's bytes and one newline more, for BRepTools::Read; reading past them throws
+// PastTheEnd (through the istream: badbit is in its exceptions mask). On a truncated file the
+// reader loops for ever once its stream has failed (BRepTools_ShapeSet::ReadGeometry reads an
+// edge's curve records while the last number it read is positive, and a failed read leaves that
+// number as it was). A valid file is read up to its last number and the newline after it.
+struct PastTheEnd {};
+class BrepBytes : public std::streambuf {
+ public:
+  explicit BrepBytes(std::string bytes) : bytes_(std::move(bytes)) {
+    bytes_ += '\n';
+    setg(bytes_.data(), bytes_.data(), bytes_.data() + bytes_.size());
+  }
+
+ protected:
+  int_type underflow() override { throw PastTheEnd{}; }
+
+ private:
+  std::string bytes_;
+};
+
 TopoDS_Shape read_brep(const fs::path& path, CadModel::Impl& m) {
   TopoDS_Shape shape;
-  bool ok = false;
   std::string why;
   {
+    std::ifstream file(path, std::ios::binary);
+    BrepBytes bytes(
+        std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>()));
+    std::istream in(&bytes);
+    in.exceptions(std::ios::badbit);
     CoutCapture capture;
     try {
       BRep_Builder builder;
-      ok = BRepTools::Read(shape, path.string().c_str(), builder);
+      BRepTools::Read(shape, in, builder);
+    } catch (const PastTheEnd&) {
+      why = "it ends before its shape does";
+      shape.Nullify();
     } catch (const Standard_Failure& e) {
       // A truncated file ends in a lookup of a shape that was never read
       // ("NCollection_IndexedMap::FindKey"): the file is at fault, not OCCT.
       why = e.GetMessageString();
-      ok = false;
+      shape.Nullify();
     }
     const std::string said = capture.text();
     if (!said.empty()) why = why.empty() ? said : said + "; " + why;
   }
-  if (!ok || shape.IsNull())
+  if (shape.IsNull())
     throw Error("'" + path.string() + "' is not a readable OCCT BREP file" +
                 (why.empty() ? "" : " (" + why + ")"));
   m.file_unit = "mm (BREP has no unit; assumed)";
