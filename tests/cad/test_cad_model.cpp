@@ -278,26 +278,35 @@ TEST(CadModel, DamagedBrepPrintsNothing) {
 }
 
 // OpenCASCADE's IGES reader crashed the process (SIGSEGV) on a truncated file (a B-spline
-// surface built from a cut parameter section) and on a face whose loop pointer names no entry;
-// each must be an Error naming the file, printing nothing on stdout, and a good file must still
-// read with its unit after them.
+// surface built from a cut parameter section) and on a face whose loop pointer names no entry,
+// and read other truncated files as whole: each must be an Error naming the file, printing
+// nothing on stdout, and a good file must still read with its unit after them.
 TEST(CadModel, DamagedIgesGivesAnError) {
   std::string dangling = cadtest::file_bytes(data("cube_10x10.igs"));
   const auto loop = dangling.find("510,59,1,1,23;");
   ASSERT_NE(loop, std::string::npos);
   dangling.replace(loop, 14, "510,59,1,1,99;");
   std::ofstream(work("dangling.igs"), std::ios::binary) << dangling;
+  // The first record of a B-spline curve's parameters left out: the reader crashes on the rest.
+  std::string cut = cadtest::file_bytes(data("cube_10x10.igs"));
+  const auto curve = cut.find("126,1,1,0,0,1,0,0.,0.,1.,1.,1.,1.,-5.,0.,5.,-5.,0.,-5.,0.,1.,0.,");
+  ASSERT_NE(curve, std::string::npos);
+  cut.erase(curve, cut.find('\n', curve) + 1 - curve);
+  std::ofstream(work("cut_curve.igs"), std::ios::binary) << cut;
   const std::vector<std::pair<std::string, std::string>> cases = {
       {truncated_copy("cube_10x10.igs", 9707, "cut_cube.igs"), "truncated"},
       {truncated_copy("sphere_Rhino3D_default.igs", 4387, "cut_sphere.igs"), "truncated"},
-      {work("dangling.igs").string(), "entry 11 (type 510) is corrupt"}};
+      // Cut in the last entity (a property): OpenCASCADE read it as the whole cube.
+      {truncated_copy("cube_10x10.igs", 11229, "cut_cube_end.igs"), "no Terminate section"},
+      {work("dangling.igs").string(), "entry 11 (type 510) is corrupt"},
+      {work("cut_curve.igs").string(), "crashed"}};
   for (const auto& [path, why] : cases) {
     SCOPED_TRACE(path);
     const std::string what = quiet_read_error(path);
     EXPECT_NE(what.find("'" + path + "' is not a readable IGES file"), std::string::npos) << what;
     EXPECT_NE(what.find(why), std::string::npos) << what;
   }
-  cadtest::expect_one_line_error("info " + cases[0].first, "is not a readable IGES file");
+  cadtest::expect_one_line_error("info " + cases.back().first, "crashed");
   const CadModel good = CadModel::read(data("cube_10x10.igs"));
   EXPECT_EQ(good.file_unit(), "mm");
   EXPECT_EQ(good.unit_scale(), 1.0);
