@@ -10,10 +10,12 @@
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Solid.hxx>
+#include <filesystem>
 #include <gp_Pnt.hxx>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 
 #include "mesher/cad/cad_model.hpp"
 
@@ -89,5 +91,12 @@ struct CadModel::Impl {
 };
 
 BBox3 shape_bbox(const TopoDS_Shape& shape);
+
+std::string lower_case(std::string s);
+// Millimetres per unit for the unit names STEP and IGES files use; 0 for an unknown name.
+double mm_per_unit(const std::string& name);
+
+// Reads an IGES file in a forked child (iges_read.cpp); records the file's unit in `m`.
+TopoDS_Shape read_iges(const std::filesystem::path& path, CadModel::Impl& m);
 
 }  // namespace hexfem

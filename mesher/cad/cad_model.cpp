@@ -13,8 +13,6 @@
 #include <Bnd_Box.hxx>
 #include <GCPnts_AbscissaPoint.hxx>
 #include <GProp_GProps.hxx>
-#include <IGESControl_Reader.hxx>
-#include <IGESData_IGESModel.hxx>
 #include <Interface_Check.hxx>
 #include <Interface_InterfaceModel.hxx>
 #include <Interface_Static.hxx>
@@ -39,13 +37,37 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <iterator>
+#include <sstream>
+#include <streambuf>
+#include <utility>
 
 #include "mesher/cad/cad_impl.hpp"
 #include "mesher/cad/step_check.hpp"
 #include "mesher/mesh/error.hpp"
 
 namespace hexfem {
+
+std::string lower_case(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Millimetres per unit for the unit names STEP and IGES files use.
+double mm_per_unit(const std::string& name) {
+  const std::string n = lower_case(name);
+  if (n == "mm" || n == "millimetre" || n == "millimeter") return 1.0;
+  if (n == "m" || n == "metre" || n == "meter") return 1000.0;
+  if (n == "cm" || n == "centimetre" || n == "centimeter") return 10.0;
+  if (n == "km") return 1e6;
+  if (n == "um" || n == "micron" || n == "micrometre") return 1e-3;
+  if (n == "in" || n == "inch" || n == "inches") return 25.4;
+  if (n == "ft" || n == "foot" || n == "feet") return 304.8;
+  if (n == "mil") return 0.0254;
+  if (n == "mi" || n == "mile") return 1609344.0;
+  return 0.0;  // unknown
+}
 
 namespace {
 
@@ -57,26 +79,6 @@ void silence_occt() {
   std::call_once(once, [] {
     Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
   });
-}
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-// Millimetres per unit for the unit names STEP and IGES files use.
-double mm_per_unit(const std::string& name) {
-  const std::string n = lower(name);
-  if (n == "mm" || n == "millimetre" || n == "millimeter") return 1.0;
-  if (n == "m" || n == "metre" || n == "meter") return 1000.0;
-  if (n == "cm" || n == "centimetre" || n == "centimeter") return 10.0;
-  if (n == "km") return 1e6;
-  if (n == "um" || n == "micron" || n == "micrometre") return 1e-3;
-  if (n == "in" || n == "inch" || n == "inches") return 25.4;
-  if (n == "ft" || n == "foot" || n == "feet") return 304.8;
-  if (n == "mil") return 0.0254;
-  if (n == "mi" || n == "mile") return 1609344.0;
-  return 0.0;  // unknown
 }
 
 std::string read_head(const fs::path& path, std::size_t n) {
@@ -124,51 +126,97 @@ TopoDS_Shape read_step(const fs::path& path, CadModel::Impl& m) {
   check_step_entities(path, reader);
   TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
   reader.FileUnits(lengths, angles, solid_angles);
-  m.file_unit =
-      lengths.IsEmpty() ? std::string("mm (none declared)") : lower(lengths.First().ToCString());
+  m.file_unit = lengths.IsEmpty() ? std::string("mm (none declared)")
+                                  : lower_case(lengths.First().ToCString());
   if (!lengths.IsEmpty()) {
     const double s = mm_per_unit(m.file_unit);
     if (s == 0.0) throw Error("STEP file unit '" + m.file_unit + "' is not supported");
     m.unit_scale = s;
   }
   for (int i = 2; i <= lengths.Length(); ++i)
-    if (lower(lengths.Value(i).ToCString()) != m.file_unit)
+    if (lower_case(lengths.Value(i).ToCString()) != m.file_unit)
       m.warnings.push_back("the STEP file mixes length units; each was converted to mm");
   if (reader.TransferRoots() == 0 || reader.NbShapes() == 0)
     throw Error("'" + path.string() + "' contains no shape that can be transferred");
   return reader.OneShape();
 }
 
-TopoDS_Shape read_iges(const fs::path& path, CadModel::Impl& m) {
-  IGESControl_Reader reader;
-  Interface_Static::SetCVal("xstep.cascade.unit", "MM");
-  if (reader.ReadFile(path.string().c_str()) != IFSelect_RetDone)
-    throw Error("'" + path.string() + "' is not a readable IGES file");
-  const auto& global = reader.IGESModel()->GlobalSection();
-  const Handle(TCollection_HAsciiString) name = global.UnitName();
-  // IGES global section unit flag (IGES 5.3, section 2.2.4.3, parameter 14).
-  static const std::array<const char*, 12> kFlagUnits = {
-      "", "inch", "mm", "", "ft", "mi", "m", "km", "mil", "um", "cm", "microinch"};
-  const int flag = global.UnitFlag();
-  std::string unit = flag > 0 && flag < 12 ? kFlagUnits[flag] : "";
-  if (unit.empty() && !name.IsNull()) unit = lower(name->ToCString());
-  if (unit == "microinch") {
-    m.unit_scale = 25.4e-6;
-  } else {
-    m.unit_scale = mm_per_unit(unit);
+// Holds std::cout's output while it lives. OCCT's BREP reader writes its complaints about a
+// damaged file ("Not a TShape table", "Not a Curve table", ...) straight to std::cout, past the
+// Message printers silence_occt removes; hexfem's stdout carries --json output.
+class CoutCapture {
+ public:
+  CoutCapture() : old_(std::cout.rdbuf(text_.rdbuf())) {}
+  ~CoutCapture() { std::cout.rdbuf(old_); }
+  CoutCapture(const CoutCapture&) = delete;
+  CoutCapture& operator=(const CoutCapture&) = delete;
+
+  // What was written, its lines joined by "; " (the error stays one line).
+  std::string text() const {
+    std::string out;
+    std::istringstream in(text_.str());
+    for (std::string line; std::getline(in, line);) {
+      while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back())))
+        line.pop_back();
+      if (line.empty()) continue;
+      out += (out.empty() ? "" : "; ") + line;
+    }
+    return out;
   }
-  if (m.unit_scale == 0.0) throw Error("IGES file unit '" + unit + "' is not supported");
-  m.file_unit = unit;
-  if (reader.TransferRoots() == 0 || reader.NbShapes() == 0)
-    throw Error("'" + path.string() + "' contains no shape that can be transferred");
-  return reader.OneShape();
-}
+
+ private:
+  std::ostringstream text_;
+  std::streambuf* old_;
+};
+
+// A BREP file's bytes and one newline more, for BRepTools::Read; reading past them throws
+// PastTheEnd (through the istream: badbit is in its exceptions mask). On a truncated file the
+// reader loops for ever once its stream has failed (BRepTools_ShapeSet::ReadGeometry reads an
+// edge's curve records while the last number it read is positive, and a failed read leaves that
+// number as it was). A valid file is read up to its last number and the newline after it.
+struct PastTheEnd {};
+class BrepBytes : public std::streambuf {
+ public:
+  explicit BrepBytes(std::string bytes) : bytes_(std::move(bytes)) {
+    bytes_ += '\n';
+    setg(bytes_.data(), bytes_.data(), bytes_.data() + bytes_.size());
+  }
+
+ protected:
+  int_type underflow() override { throw PastTheEnd{}; }
+
+ private:
+  std::string bytes_;
+};
 
 TopoDS_Shape read_brep(const fs::path& path, CadModel::Impl& m) {
   TopoDS_Shape shape;
-  BRep_Builder builder;
-  if (!BRepTools::Read(shape, path.string().c_str(), builder) || shape.IsNull())
-    throw Error("'" + path.string() + "' is not a readable OCCT BREP file");
+  std::string why;
+  {
+    std::ifstream file(path, std::ios::binary);
+    BrepBytes bytes(
+        std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>()));
+    std::istream in(&bytes);
+    in.exceptions(std::ios::badbit);
+    CoutCapture capture;
+    try {
+      BRep_Builder builder;
+      BRepTools::Read(shape, in, builder);
+    } catch (const PastTheEnd&) {
+      why = "it ends before its shape does";
+      shape.Nullify();
+    } catch (const Standard_Failure& e) {
+      // A truncated file ends in a lookup of a shape that was never read
+      // ("NCollection_IndexedMap::FindKey"): the file is at fault, not OCCT.
+      why = e.GetMessageString();
+      shape.Nullify();
+    }
+    const std::string said = capture.text();
+    if (!said.empty()) why = why.empty() ? said : said + "; " + why;
+  }
+  if (shape.IsNull())
+    throw Error("'" + path.string() + "' is not a readable OCCT BREP file" +
+                (why.empty() ? "" : " (" + why + ")"));
   m.file_unit = "mm (BREP has no unit; assumed)";
   return shape;
 }
@@ -499,7 +547,7 @@ CadModel CadModel::read(const std::filesystem::path& path, const CadReadOptions&
 
   auto impl = std::make_unique<Impl>();
   Impl& m = *impl;
-  const std::string ext = lower(path.extension().string());
+  const std::string ext = lower_case(path.extension().string());
   try {
     TopoDS_Shape shape;
     if (ext == ".step" || ext == ".stp") {
