@@ -107,10 +107,10 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
   if (cad_input) {
     check_finite("--h", a.h);
     if (!(a.h > 0)) throw Error("a CAD input needs a mesh size: --h > 0 (mm)");
-    if (given(a.units_given))
-      throw Error(
-          "--units is for a mesh input; a CAD part is meshed in millimetres (its file "
-          "unit converted) and solved in SI");
+    if (given(a.units_given) && parse_units(a.units).name != "mm")
+      throw Error("--units " + a.units +
+                  " does not apply to a CAD part: it is meshed in millimetres (its file unit "
+                  "converted) and solved in SI; --units is for a mesh input");
   } else {
     if (a.modal.force) throw Error("--force is for CAD input; '" + a.mesh + "' is already a mesh");
     if (a.h != 0) throw Error("--h is for CAD input; '" + a.mesh + "' is already a mesh");
