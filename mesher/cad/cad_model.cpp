@@ -197,13 +197,19 @@ TopoDS_Shape read_brep(const fs::path& path, CadModel::Impl& m) {
     BrepBytes bytes(
         std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>()));
     std::istream in(&bytes);
-    in.exceptions(std::ios::badbit);
+    // A record that does not parse (a number where a letter belongs) sets failbit, and OCCT's
+    // reader can then loop for ever re-reading it (a fuzzed Torus_1.brep with two lines gone):
+    // it throws instead.
+    in.exceptions(std::ios::badbit | std::ios::failbit);
     CoutCapture capture;
     try {
       BRep_Builder builder;
       BRepTools::Read(shape, in, builder);
     } catch (const PastTheEnd&) {
       why = "it ends before its shape does";
+      shape.Nullify();
+    } catch (const std::ios_base::failure&) {
+      why = "a record that does not read as the BREP format says";
       shape.Nullify();
     } catch (const Standard_Failure& e) {
       // A truncated file ends in a lookup of a shape that was never read

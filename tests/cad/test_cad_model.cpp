@@ -277,6 +277,23 @@ TEST(CadModel, DamagedBrepPrintsNothing) {
   }
 }
 
+// A whole BREP file with two lines of a vertex gone (a fuzzed Torus_1.brep): a record that does
+// not parse left OpenCASCADE's reader re-reading it for ever. It is an Error now, at once.
+TEST(CadModel, BrepWithARecordThatDoesNotParseIsAnError) {
+  std::string torus = cadtest::file_bytes(data("Torus_1.brep"));
+  const auto shapes = torus.find("TShapes");
+  ASSERT_NE(shapes, std::string::npos);
+  const auto vertex = torus.find("\nVe\n", shapes);
+  ASSERT_NE(vertex, std::string::npos);
+  const auto from = vertex + 4;  // the vertex's tolerance and point
+  torus.erase(from, torus.find('\n', torus.find('\n', from) + 1) + 1 - from);
+  const std::string path = work("vertex_gone.brep");
+  std::ofstream(path, std::ios::binary) << torus;
+  const std::string what = quiet_read_error(path);
+  EXPECT_NE(what.find("'" + path + "' is not a readable OCCT BREP file"), std::string::npos)
+      << what;
+}
+
 // OpenCASCADE's IGES reader crashed the process (SIGSEGV) on a truncated file (a B-spline
 // surface built from a cut parameter section) and on a face whose loop pointer names no entry,
 // and read other truncated files as whole: each must be an Error naming the file, printing

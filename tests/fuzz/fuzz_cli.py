@@ -1,20 +1,23 @@
 #!/usr/bin/env python3
-"""Fuzz the hexfem CLI with mutated STEP and MSH files (issue 14).
+"""Fuzz the hexfem CLI with mutated STEP, IGES, BREP and MSH files (issue 14).
 
 Each input is a seed with bytes flipped, a cut, lines dropped or repeated, or numbers replaced
-by NaN, inf or huge values. STEP inputs go through `info` and `mesh --dim 2`, MSH inputs through
-`stats` and `convert` (to .msh, binary .msh, .vtu and .inp in turn). Every run has a time and a
+by NaN, inf or huge values. CAD inputs go through `info --json` and `mesh --dim 2`, MSH inputs
+through `stats` and `convert` (to .msh, binary .msh, .vtu and .inp in turn). OpenCASCADE's IGES
+reader crashed on cut files and its BREP reader printed on stdout or hung (session 37). Every run has a time and a
 memory limit. A run fails when it
   - ends by a signal or with an exit code >= 128 (a crash, an abort, an OOM kill),
   - passes its time limit (a hang),
   - prints a sanitizer report (AddressSanitizer, UBSan "runtime error:"),
-  - exits non-zero without exactly one "hexfem: error: " line on stderr.
+  - exits non-zero without exactly one "hexfem: error: " line on stderr,
+  - writes anything on stdout for `info --json` other than the JSON (nothing when it fails).
 Failing inputs are kept in --keep with the command and its output. Exit status 0 when no run
 failed. Deterministic for a given --seed.
 
   python3 tests/fuzz/fuzz_cli.py --hexfem build-asan/app/hexfem --count 10000 --jobs 2
 """
 import argparse
+import json
 import os
 import random
 import re
@@ -29,8 +32,12 @@ from concurrent.futures import ThreadPoolExecutor
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "data")
 STEP_SEEDS = ["box.stp", "cylinder.stp", "sphere.stp", "gehause_rohteil.stp"]
-# Mesh size per STEP seed: coarse, so a valid input meshes in well under a second.
-STEP_H = {"box.stp": 0.25, "cylinder.stp": 3.0, "sphere.stp": 3.0, "gehause_rohteil.stp": 1.4}
+CAD_SEEDS = STEP_SEEDS + ["cube_10x10.igs", "sphere_Rhino3D_default.igs", "Cone_1.brep",
+                          "Torus_1.brep"]
+# Mesh size per CAD seed: coarse, so a valid input meshes in well under a second.
+STEP_H = {"box.stp": 0.25, "cylinder.stp": 3.0, "sphere.stp": 3.0, "gehause_rohteil.stp": 1.4,
+          "cube_10x10.igs": 2.0, "sphere_Rhino3D_default.igs": 0.4, "Cone_1.brep": 40.0,
+          "Torus_1.brep": 90.0}
 SANITIZER = re.compile(rb"ERROR: AddressSanitizer|ERROR: LeakSanitizer|runtime error:|"
                        rb"SUMMARY: UndefinedBehaviorSanitizer")
 NUMBER = re.compile(rb"-?\d+\.?\d*(?:[eE][-+]?\d+)?")
@@ -144,9 +151,9 @@ def main():
 
 
 def make_seeds(hexfem, work, memory_mb):
-    """STEP seeds from tests/data; MSH seeds meshed from them (4.1 ASCII and binary, 2.2)."""
+    """CAD seeds from tests/data; MSH seeds meshed from STEP ones (4.1 ASCII and binary, 2.2)."""
     seeds = []
-    for name in STEP_SEEDS:
+    for name in CAD_SEEDS:
         with open(os.path.join(DATA, name), "rb") as f:
             seeds.append((name, "step", f.read()))
     for name in STEP_SEEDS[:2]:
@@ -185,10 +192,21 @@ $EndElements
 """
 
 
+def json_or_nothing(code, out):
+    """`info --json` prints its JSON and nothing else, and nothing at all when it fails."""
+    if code != 0:
+        return not out.strip()
+    try:
+        json.loads(out)
+        return True
+    except ValueError:
+        return False
+
+
 def commands(kind, name, path, i, work):
     if kind == "step":
         h = STEP_H.get(name, 4.0)
-        return [["info", path], ["mesh", path, "--h", str(h), "--dim", "2"]]
+        return [["info", "--json", path], ["mesh", path, "--h", str(h), "--dim", "2"]]
     out = os.path.join(work, f"out{i}." + ["msh", "msh", "vtu", "inp"][i % 4])
     convert = ["convert", path, out] + (["--binary"] if i % 4 == 1 else [])
     return [["stats", path], convert]
@@ -200,7 +218,7 @@ def fuzz(a, hexfem, work):
     jobs = []
     for i in range(a.count):
         name, kind, data = seeds[i % len(seeds)]
-        ext = ".stp" if kind == "step" else ".msh"
+        ext = os.path.splitext(name)[1] if kind == "step" else ".msh"
         path = os.path.join(work, f"in{i}{ext}")
         with open(path, "wb") as f:
             f.write(mutate(data, rng))
@@ -214,7 +232,10 @@ def fuzz(a, hexfem, work):
     def one(job):
         i, path, cmd = job
         code, out, err, secs = run([hexfem] + cmd, a.timeout, a.memory_mb, a.sanitized, work)
-        return job, code, err, secs, verdict(code, err)
+        bad = verdict(code, err)
+        if not bad and cmd[:2] == ["info", "--json"] and not json_or_nothing(code, out):
+            bad = "stdout holds more than the JSON"
+        return job, code, err, secs, bad
 
     failures = []
     with ThreadPoolExecutor(max_workers=a.jobs) as pool:
