@@ -129,13 +129,10 @@ void to_json(nlohmann::json& j, const Order2Report& r) {
        {"hanging_kept", r.hanging_kept},
        {"nc_made_conformal", r.nc_made_conformal},
        {"nc_left_untied", r.nc_left_untied}};
-  double total = 0;
   j["stages"] = nlohmann::json::array();
-  for (const StageTime& t : r.stages) {
+  for (const StageTime& t : r.stages)
     j["stages"].push_back({{"name", t.name}, {"seconds", t.seconds}});
-    total += t.seconds;
-  }
-  j["seconds"] = total;
+  j["seconds"] = r.seconds();
 }
 
 }  // namespace hexfem

@@ -45,8 +45,6 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
               report.file_unit.c_str());
   std::printf("%s", mesh_report_text(report).c_str());
   if (a.order == 2) {
-    double seconds = 0;
-    for (const StageTime& t : order2.stages) seconds += t.seconds;
     std::printf(
         "order 2: %ld mid-edge nodes, %ld on the boundary, %ld curved onto the CAD geometry "
         "(largest offset %.3f edge lengths), %ld cells bent to follow it, %ld straightened; NC "
@@ -54,7 +52,7 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
         "%ld placed on their quad, %ld kept; %ld NC faces made conformal (%.2f s)\n",
         order2.edge_nodes, order2.boundary_nodes, order2.curved_nodes, order2.max_offset,
         order2.bent_cells, order2.straightened_cells, order2.hanging_placed, order2.hanging_kept,
-        order2.nc_made_conformal, seconds);
+        order2.nc_made_conformal, order2.seconds());
   }
   if (!a.output.empty()) std::printf("wrote %s (%.3f s)\n", a.output.c_str(), write_seconds);
   for (const std::string& w : report.warnings)

@@ -26,6 +26,11 @@ struct Order2Report {
   long nc_made_conformal = 0;     // NC faces made conformal instead (app/part_modal.cpp)
   long nc_left_untied = 0;        // NC faces whose hanging node stays free (no pyramids asked for)
   std::vector<StageTime> stages;  // the caller's steps, timed (app/part_modal.cpp)
+  double seconds() const {        // the steps' wall time in all
+    double sum = 0;
+    for (const StageTime& t : stages) sum += t.seconds;
+    return sum;
+  }
 };
 
 // Where the mid-edge node of boundary edge (a, b) goes: the edge lies on CAD faces face1 and
