@@ -61,6 +61,18 @@ Units parse_units(const std::string& u) {
   throw Error("--units must be SI (metres) or mm, got '" + u + "'");
 }
 
+// A mesh file's unit: the one it records (hexfem's meshes record mm), else --units, else metres.
+// A --units that contradicts the record is refused: one of the two is wrong, and the
+// frequencies would be off by a factor of a thousand.
+Units mesh_units(const Args& a, const MixedMesh& mesh) {
+  if (mesh.length_unit.empty()) return parse_units(a.units);
+  const Units recorded = parse_units(mesh.length_unit);
+  if (given(a.units_given) && parse_units(a.units).name != recorded.name)
+    throw Error("'" + a.mesh + "' records its coordinates in " + mesh.length_unit + "; --units " +
+                a.units + " contradicts it (leave --units out)");
+  return recorded;
+}
+
 // Plausibility of the length unit: a part of tens of metres in "SI" is most likely in mm.
 std::vector<std::string> unit_warnings(const MixedMesh& mesh, const Units& units) {
   double extent = 0;
@@ -153,7 +165,7 @@ ModalOptions check_arguments(const Args& a, bool cad_input) {
 }
 
 int run(const Args& a) {
-  const Units units = parse_units(a.units);
+  Units units = parse_units(a.units);
   const bool cad_input = is_cad_file(a.mesh);
   ModalOptions opt = check_arguments(a, cad_input);
   opt.length_scale = units.scale;
@@ -178,6 +190,8 @@ int run(const Args& a) {
                  mesh_write_options(mesh, a.mesh_out, false, &part.mesh_report.warnings));
   } else {
     mesh = read_mesh(a.mesh);
+    units = mesh_units(a, mesh);
+    opt.length_scale = units.scale;
     read_order2 = mesh.order == 2;
     const bool order_given = given(a.modal.order_given);
     if (order_given && a.modal.order == 2 && mesh.order == 1)
@@ -193,6 +207,11 @@ int run(const Args& a) {
     r = solve_modal(mesh, opt);
   }
   const Units shown = cad_input ? Units{"mm", 1e-3} : units;
+  // Where the length unit came from, for the report.
+  const char* unit_source = cad_input                   ? "the CAD file, converted to mm"
+                            : !mesh.length_unit.empty() ? "recorded in the mesh file"
+                            : given(a.units_given)      ? "--units"
+                                                        : "default (the file records none)";
   std::vector<std::string> warnings =
       cad_input ? part.mesh_report.warnings : unit_warnings(mesh, units);
   if (a.free) {
@@ -256,6 +275,7 @@ int run(const Args& a) {
       j["order2"] = part.order2;
     j["units"] = {{"length", shown.name == "SI" ? "m" : "mm"},
                   {"scale_to_m", shown.scale},
+                  {"length_from", unit_source},
                   {"material", "SI (Pa, kg/m^3)"},
                   {"frequency", "Hz"}};
     j["material"] = mat;
@@ -301,8 +321,8 @@ int run(const Args& a) {
         part.order2.max_offset, part.order2.projection_refused, part.order2.bent_cells,
         part.order2.straightened_cells, part.order2.hanging_placed, part.order2.hanging_kept,
         part.order2.nc_made_conformal);
-  std::printf("units     lengths in %s (x %g -> m), material in SI, frequencies in Hz\n",
-              shown.name == "SI" ? "m" : "mm", shown.scale);
+  std::printf("units     lengths in %s (%s; x %g -> m), material in SI, frequencies in Hz\n",
+              shown.name == "SI" ? "m" : "mm", unit_source, shown.scale);
   std::printf("material  %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", mat.base.name.c_str(),
               mat.base.E, mat.base.nu, mat.base.rho);
   for (const auto& [solid, m] : mat.by_solid)
@@ -364,8 +384,9 @@ RegisterCommand reg{
        add_modal_options(sub, a->modal);
        sub.add_flag("--free", a->free, "free-free analysis (no fixed DOF)");
        a->units_given = sub.add_option("--units", a->units,
-                                       "mesh input: length unit of the mesh, SI (m, default) or "
-                                       "mm (hexfem writes its meshes in mm)");
+                                       "mesh input: length unit of the mesh, SI (m) or mm; "
+                                       "default: the unit the file records (hexfem's .msh "
+                                       "files record mm), else SI");
        sub.add_flag("--json", a->json, "print JSON on stdout");
        sub.add_option("--modes-out", a->modes_out, "write mode shapes to this .vtu (ParaView)")
            ->check(kNonEmptyPath);

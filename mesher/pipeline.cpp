@@ -320,6 +320,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   mesh_last();
   r = std::move(kept.back().report);
   MixedMesh mesh = std::move(kept.back().mesh);
+  mesh.length_unit = "mm";  // the CAD model's lengths are converted to millimetres on reading
   // Chords across thin or strongly curved features cut volume off at a coarse h: legitimate,
   // but a user expecting the part's mass must hear of it.
   if (const std::string w = volume_warning(r.volume_error, h); !w.empty()) r.warnings.push_back(w);

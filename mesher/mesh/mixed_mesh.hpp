@@ -110,6 +110,11 @@ struct MixedMesh {
   // Physical group names as read from or written to MSH: (dimension, tag) -> name.
   std::map<std::pair<int, int>, std::string> physical_names;
 
+  // The unit of the coordinates when known: "mm" (hexfem meshes CAD parts in millimetres) or
+  // "m"; empty for a mesh file that does not say. MSH files written by hexfem record it, so that
+  // a solver reading one back needs no --units.
+  std::string length_unit;
+
   std::size_t num_cells() const { return cell_kind.size(); }
   std::size_t num_bfaces() const { return bface_cad_face.size(); }
   const std::int32_t* cell(std::size_t c) const { return &cell_nodes[kMaxCellNodes * c]; }

@@ -452,6 +452,12 @@ MixedMesh read_msh(const std::filesystem::path& path) {
     } else if (section == "$Elements") {
       if (!have_nodes) in.fail("$Elements before $Nodes");
       v41 ? r.elements41() : r.elements22();
+    } else if (section == "$HexfemLengthUnit") {
+      const std::string_view unit = in.token();
+      if (unit != "mm" && unit != "m")
+        in.fail("length unit '" + std::string(unit.substr(0, 40)) + "' is not mm or m");
+      mesh.length_unit = unit;
+      in.expect("$EndHexfemLengthUnit");
     } else if (!section.empty() && section[0] == '$') {
       in.skip_section(section);
     } else {

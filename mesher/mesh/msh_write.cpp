@@ -264,6 +264,9 @@ void write_msh(const MixedMesh& mesh, const std::filesystem::path& path,
       o.text("\n");
     }
     o.text("$EndMeshFormat\n");
+    // A section of hexfem's own (Gmsh and meshio skip sections they do not know).
+    if (!mesh.length_unit.empty())
+      o.text("$HexfemLengthUnit\n" + mesh.length_unit + "\n$EndHexfemLengthUnit\n");
     write_body(mesh, o);
   });
 }

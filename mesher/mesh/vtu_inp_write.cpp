@@ -308,6 +308,7 @@ void write_inp(const MixedMesh& mesh, const std::filesystem::path& path,
   std::string s;
   s.reserve(80 * (mesh.nodes.size() + mesh.num_cells()));
   s += "** hexfem mixed mesh: node i -> i+1, cell c -> c+1\n";
+  if (!mesh.length_unit.empty()) s += "** coordinates in " + mesh.length_unit + "\n";
   s += "*NODE, NSET=NALL\n";
   for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
     put(s, static_cast<long long>(i + 1));

@@ -130,6 +130,31 @@ TEST(ModalCli, BadInputIsAClearError) {
   expect_error(b + "--fix \"x>-1\"", "every DOF is fixed");
 }
 
+// `hexfem mesh` writes millimetres and says so in the file: read back, no --units is needed,
+// and a --units that contradicts the file is refused (frequencies 1000x off otherwise).
+TEST(ModalCli, AMeshThatRecordsItsUnitIsSolvedInIt) {
+  MixedMesh m = make_box_mesh({100, 10, 10}, 20, 2, 2, CellKind::Hex8);
+  m.length_unit = "mm";
+  const fs::path p = work("beam_records_mm.msh");
+  write_mesh(m, p);
+  const CliRun told = hexfem("modal " + beam_msh() + " --fix face:1 --units mm --modes 2 --json");
+  const CliRun recorded = hexfem("modal " + p.string() + " --fix face:1 --modes 2 --json");
+  ASSERT_EQ(told.code, 0) << told.out;
+  ASSERT_EQ(recorded.code, 0) << recorded.out;
+  const auto t = nlohmann::json::parse(told.out), r = nlohmann::json::parse(recorded.out);
+  EXPECT_EQ(r["modes"][0]["frequency_hz"], t["modes"][0]["frequency_hz"]);
+  EXPECT_EQ(r["units"]["length"], "mm");
+  EXPECT_EQ(r["units"]["length_from"], "recorded in the mesh file");
+  EXPECT_EQ(t["units"]["length_from"], "--units");
+  EXPECT_TRUE(r["warnings"].empty()) << recorded.out;
+  const CliRun agrees = hexfem("modal " + p.string() + " --fix face:1 --units mm --modes 2");
+  EXPECT_EQ(agrees.code, 0) << agrees.out;
+  EXPECT_NE(agrees.out.find("lengths in mm (recorded in the mesh file;"), std::string::npos)
+      << agrees.out;
+  expect_error(p.string() + " --fix face:1 --units SI",
+               "records its coordinates in mm; --units SI contradicts it");
+}
+
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -227,7 +227,7 @@ TEST(Order2Modal, ItsOwnSecondOrderExportSolvesTheSame) {
       run("modal " + part + " --h 2 --fix face:8 --modes 4 --json --mesh-out " + msh, &code);
   ASSERT_EQ(code, 0) << out;
   const nlohmann::json cad = nlohmann::json::parse(out.substr(out.find('{')));
-  out = run("modal " + msh + " --units mm --fix face:8 --modes 4 --json", &code);
+  out = run("modal " + msh + " --fix face:8 --modes 4 --json", &code);  // the file says mm
   ASSERT_EQ(code, 0) << out;
   const nlohmann::json file = nlohmann::json::parse(out.substr(out.find('{')));
   EXPECT_EQ(file["order"], 2);

@@ -16,6 +16,8 @@ namespace {
 using testing::work_path;
 using testing::write_file;
 
+std::string error_of(const std::filesystem::path& p);
+
 void expect_same_mesh(const MixedMesh& a, const MixedMesh& b) {
   EXPECT_EQ(a.nodes, b.nodes);  // bitwise: ASCII uses shortest round-trip doubles
   EXPECT_EQ(a.cell_kind, b.cell_kind);
@@ -26,6 +28,7 @@ void expect_same_mesh(const MixedMesh& a, const MixedMesh& b) {
   EXPECT_EQ(a.bface_cad_face, b.bface_cad_face);
   EXPECT_EQ(a.bface_physical, b.bface_physical);
   EXPECT_EQ(a.physical_names, b.physical_names);
+  EXPECT_EQ(a.length_unit, b.length_unit);
 }
 
 TEST(MshIo, RoundTripAsciiAndBinary) {
@@ -40,6 +43,28 @@ TEST(MshIo, RoundTripAsciiAndBinary) {
     write_msh(back, path, {binary});
     expect_same_mesh(m, read_msh(path));
   }
+}
+
+TEST(MshIo, TheLengthUnitComesBack) {
+  for (const char* unit : {"mm", "m", ""}) {
+    MixedMesh m = testing::mixed_sample();
+    m.length_unit = unit;
+    for (bool binary : {false, true}) {
+      const auto path = work_path(binary ? "unit_bin.msh" : "unit_ascii.msh");
+      write_msh(m, path, {binary});
+      expect_same_mesh(m, read_msh(path));
+    }
+  }
+  // A unit the reader does not know is an error naming it, not a silent metre.
+  MixedMesh m = testing::mixed_sample();
+  m.length_unit = "mm";
+  write_msh(m, work_path("unit_inch.msh"));
+  std::ifstream in(work_path("unit_inch.msh"));
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("\nmm\n"), 4, "\ninch\n");
+  write_file(work_path("unit_inch.msh"), text);
+  EXPECT_NE(error_of(work_path("unit_inch.msh")).find("length unit 'inch' is not mm or m"),
+            std::string::npos);
 }
 
 TEST(MshIo, BinaryAndAsciiAgree) {
