@@ -158,17 +158,13 @@ void bend_interior_nodes(MixedMesh& mesh, const CellJacobianRatio& ratio,
   std::vector<double> q = ratios_of_all_cells(mesh, ratio);
   // q stays every cell's ratio: a bend kept updates its region (every cell around a moved
   // node), one undone puts the nodes back exactly.
-  struct GiveBack {
-    std::vector<double>& q;
-    std::vector<double>* out;
-    ~GiveBack() {
-      if (out) *out = std::move(q);
-    }
-  } give_back{q, ratios};
   std::vector<std::size_t> bad;
   for (std::size_t c = 0; c < ncells; ++c)
     if (q[c] < min_ratio) bad.push_back(c);
-  if (bad.empty()) return;
+  if (bad.empty()) {
+    if (ratios) *ratios = std::move(q);
+    return;
+  }
   std::vector<std::uint8_t> on_boundary(mesh.nodes.size(), 0);
   for (const std::int32_t m : mesh.bface_edge_nodes)
     if (m >= 0) on_boundary[static_cast<std::size_t>(m)] = 1;
@@ -300,6 +296,7 @@ void bend_interior_nodes(MixedMesh& mesh, const CellJacobianRatio& ratio,
     report->bent_cells += cells;
     report->bent_nodes += nodes;
   }
+  if (ratios) *ratios = std::move(q);
 }
 
 void straighten_invalid_cells(MixedMesh& mesh, const CellJacobianRatio& ratio, double min_ratio,
