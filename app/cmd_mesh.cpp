@@ -169,25 +169,7 @@ RegisterCommand reg{
            "(S in mm, or 0.5h: a fraction of --h)");
        sub.add_flag("--binary", a->binary, "write MSH 4.1 binary");
        sub.add_option("--k", a->volume.k, "point exclusion factor k (paper: 0.7)");
-       sub.add_option("--min-quality", a->volume.min_quality,
-                      "smallest scaled Jacobian of a hex or prism made");
-       sub.add_option(
-           "--max-gap", a->volume.max_total_gap,
-           "largest |V(mesh) - V(tets)| / V(tets): elements losing most go back to tets");
-       sub.add_flag("--no-prisms", a->volume.no_prisms, "make no prisms");
-       sub.add_flag("--no-pyramids", a->volume.no_pyramids, "make no pyramids");
-       sub.add_flag("--no-nc-repair{false}", a->volume.nc_repair,
-                    "keep elements that make more NC quad faces than they match (study)");
-       sub.add_flag("--conformal", a->volume.conformal,
-                    "no NC face: each made conformal with a pyramid and tets (a hex kept) or by "
-                    "splitting its cell");
-       sub.add_option("--nc-hex-gain", a->volume.nc_hex_gain,
-                      "a hex goes back to tets when that removes at least this many NC faces");
-       sub.add_option("--hex-selection", a->hex_selection,
-                      "swap-wide (default: greedy, then swaps of hexes among the candidates around "
-                      "the free tets), swap (swaps among the candidates greedy found: fewer hexes, "
-                      "faster at scale) or greedy (paper: best first)")
-           ->check(CLI::IsMember({"greedy", "swap", "swap-wide"}));
+       add_recombination_options(sub, a->volume, a->hex_selection);
        sub.add_flag("--nearest-frame{false}", a->volume.inherit_frame,
                     "interior points take the nearest surface vertex's frame (paper) instead of "
                     "their front's (study)");

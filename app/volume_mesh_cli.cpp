@@ -60,4 +60,24 @@ int run_volume_mesh(const VolumeMeshArgs& a) {
   return 0;
 }
 
+void add_recombination_options(CLI::App& sub, VolumeOptions& v, std::string& hex_selection) {
+  sub.add_option("--min-quality", v.min_quality, "smallest scaled Jacobian of a hex or prism made");
+  sub.add_option("--max-gap", v.max_total_gap,
+                 "largest |V(mesh) - V(tets)| / V(tets): elements losing most go back to tets");
+  sub.add_flag("--no-prisms", v.no_prisms, "make no prisms");
+  sub.add_flag("--no-pyramids", v.no_pyramids, "make no pyramids");
+  sub.add_flag("--no-nc-repair{false}", v.nc_repair,
+               "keep elements that make more NC quad faces than they match (study)");
+  sub.add_flag("--conformal", v.conformal,
+               "no NC face: each made conformal with a pyramid and tets (a hex kept) or by "
+               "splitting its cell");
+  sub.add_option("--nc-hex-gain", v.nc_hex_gain,
+                 "a hex goes back to tets when that removes at least this many NC faces");
+  sub.add_option("--hex-selection", hex_selection,
+                 "swap-wide (default: greedy, then swaps of hexes among the candidates around "
+                 "the free tets), swap (swaps among the candidates greedy found: fewer hexes, "
+                 "faster at scale) or greedy (paper: best first)")
+      ->check(CLI::IsMember({"greedy", "swap", "swap-wide"}));
+}
+
 }  // namespace hexfem

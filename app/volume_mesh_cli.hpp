@@ -1,6 +1,7 @@
 // `hexfem mesh --dim 3`: the whole pipeline from a CAD file to a written hex-dominant mesh.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <string>
 
 #include "mesher/pipeline.hpp"
@@ -21,5 +22,9 @@ struct VolumeMeshArgs {
 // prints the paper's table row, the volume error and the time per stage (or JSON). Returns the exit
 // code.
 int run_volume_mesh(const VolumeMeshArgs& args);
+
+// The recombination's options (`mesh` and `recombine`): --min-quality, --max-gap, --no-prisms,
+// --no-pyramids, --no-nc-repair, --conformal, --nc-hex-gain, --hex-selection.
+void add_recombination_options(CLI::App& sub, VolumeOptions& v, std::string& hex_selection);
 
 }  // namespace hexfem

@@ -138,7 +138,7 @@ std::string volume_report_text(const VolumeReport& r) {
   };
   line("vertices        %zu (surface %zu, interior %zu, steiner %zu)", r.stats.num_nodes,
        r.surface_vertices, r.interior_points, r.steiner_points);
-  line("tets (tetgen)   %zu (%zu flat slivers on quad faces absorbed)", r.tets, r.absorbed_slivers);
+  line("tets            %zu (%zu flat slivers on quad faces absorbed)", r.tets, r.absorbed_slivers);
   line(
       "sliver flips    %zu (%zu tets -> %zu), %zu slivers left; %zu flat tets on the surface "
       "dropped",

@@ -288,34 +288,18 @@ MixedMesh finish_mesh(RecombineState& s, const SurfaceMesh& surface, const Volum
   return mesh;
 }
 
-// The whole volume pipeline once, with `extra` among the interior points.
-MixedMesh mesh_volume_once(const SurfaceMesh& surface_in, const VolumeOptions& options,
-                           const std::vector<Vec3>& extra, VolumeReport& r) {
+// A fresh report for a run with these (checked) options.
+void start_report(const VolumeOptions& options, VolumeReport& r) {
   r = VolumeReport{};
 #ifdef _OPENMP
   r.threads = omp_get_max_threads();
 #endif
   check_options(options);
-  StageTimer timer;
-  const FrameField3D field(surface_in);
-  const SolidLocator locator(surface_in);
-  r.stages.push_back(timer.lap("frame field + locator"));
+}
 
-  VolumePoints points = insert_points(surface_in, field, locator, options);
-  points.points.insert(points.points.end(), extra.begin(), extra.end());
-  r.surface_vertices = surface_in.mesh.nodes.size();
-  r.interior_points = points.points.size();
-  r.frontal_points = points.frontal_count;
-  r.lp_cvt = points.lpcvt;
-  r.stages.push_back(timer.lap("volume points"));
-
-  TetMesh tets =
-      tetrahedralize(surface_in, points.points, locator, options.tetgen_delaunay_recovery);
-  r.steiner_points = tets.steiner_points;
-  r.tetgen_seconds = tets.tetgen_seconds;
-  r.tets = tets.tets.size();
-  r.stages.push_back(timer.lap("tetgen"));
-
+// Tets to the mixed mesh: the recombination and the tail, on `timer`.
+MixedMesh recombine_timed(TetMesh tets, const SurfaceMesh& surface_in, const VolumeOptions& options,
+                          StageTimer& timer, VolumeReport& r) {
   // Flat tets on the surface go; the surface takes their other diagonal (on a face between two
   // glued solids, a flip of the tets around them instead).
   SurfaceMesh surface = surface_in;
@@ -354,6 +338,34 @@ MixedMesh mesh_volume_once(const SurfaceMesh& surface_in, const VolumeOptions& o
     r.stages.push_back(timer.lap("flat-cell fallback"));
     mesh = finish_mesh(s, surface, options, timer, r);
   }
+  return mesh;
+}
+
+// The whole volume pipeline once, with `extra` among the interior points.
+MixedMesh mesh_volume_once(const SurfaceMesh& surface_in, const VolumeOptions& options,
+                           const std::vector<Vec3>& extra, VolumeReport& r) {
+  start_report(options, r);
+  StageTimer timer;
+  const FrameField3D field(surface_in);
+  const SolidLocator locator(surface_in);
+  r.stages.push_back(timer.lap("frame field + locator"));
+
+  VolumePoints points = insert_points(surface_in, field, locator, options);
+  points.points.insert(points.points.end(), extra.begin(), extra.end());
+  r.surface_vertices = surface_in.mesh.nodes.size();
+  r.interior_points = points.points.size();
+  r.frontal_points = points.frontal_count;
+  r.lp_cvt = points.lpcvt;
+  r.stages.push_back(timer.lap("volume points"));
+
+  TetMesh tets =
+      tetrahedralize(surface_in, points.points, locator, options.tetgen_delaunay_recovery);
+  r.steiner_points = tets.steiner_points;
+  r.tetgen_seconds = tets.tetgen_seconds;
+  r.tets = tets.tets.size();
+  r.stages.push_back(timer.lap("tetgen"));
+
+  MixedMesh mesh = recombine_timed(std::move(tets), surface_in, options, timer, r);
   r.total_seconds = timer.total_seconds();
   r.total_cpu_seconds = timer.total_cpu_seconds();
   return mesh;
@@ -387,6 +399,21 @@ MixedMesh mesh_volume(const SurfaceMesh& surface_in, const VolumeOptions& option
     r.total_seconds += seconds;
     r.total_cpu_seconds += cpu_seconds;
   }
+  return mesh;
+}
+
+MixedMesh recombine_tets(TetMesh tets, const SurfaceMesh& surface, const VolumeOptions& options,
+                         VolumeReport* report) {
+  VolumeReport local;
+  VolumeReport& r = report ? *report : local;
+  start_report(options, r);
+  StageTimer timer;
+  r.surface_vertices = surface.mesh.nodes.size();
+  r.interior_points = tets.nodes.size() - surface.mesh.nodes.size();
+  r.tets = tets.tets.size();
+  MixedMesh mesh = recombine_timed(std::move(tets), surface, options, timer, r);
+  r.total_seconds = timer.total_seconds();
+  r.total_cpu_seconds = timer.total_cpu_seconds();
   return mesh;
 }
 

@@ -18,6 +18,7 @@
 #include "mesher/recombine_select.hpp"
 #include "mesher/stage_timer.hpp"
 #include "mesher/surface_mesh.hpp"
+#include "mesher/tetrahedralize.hpp"
 #include "mesher/volume_points.hpp"
 #include "mesher/volume_points_lpcvt.hpp"
 
@@ -129,5 +130,12 @@ struct VolumeReport {
 // Throws hexfem::Error (one line) for a bad surface mesh or option, or when TetGen fails.
 MixedMesh mesh_volume(const SurfaceMesh& surface, const VolumeOptions& options = {},
                       VolumeReport* report = nullptr);
+
+// The recombination alone, on tets made elsewhere (`hexfem recombine`: another mesher's tets,
+// to compare recombinations on the same tets): the stages after TetGen, as mesh_volume runs
+// them. `surface` holds the tets' boundary (and interface) triangles on the first nodes of
+// `tets`, with outward normals. The report's point and TetGen figures stay zero.
+MixedMesh recombine_tets(TetMesh tets, const SurfaceMesh& surface,
+                         const VolumeOptions& options = {}, VolumeReport* report = nullptr);
 
 }  // namespace hexfem
