@@ -3,12 +3,13 @@
 # the report's assembly seconds, setup, solve, LOBPCG iterations, f1-f10 to 10 digits and the
 # peak resident memory of the whole run. Run it under the CPU lock so builds do not disturb it:
 #   flock /tmp/hexfem-cpu.lock validation/bench_assembly.sh /tmp/hexfem-before
-# Usage: bench_assembly.sh HEXFEM [MODEL] [H] [extra hexfem modal arguments...]
+# Usage: bench_assembly.sh HEXFEM [MODEL] [H] [hexfem modal arguments; default --fix face:8]
 set -eu
 bin=$1
 model=${2:-/work/shared/models/ANC101.stp}
 h=${3:-9}
 [ $# -ge 3 ] && shift 3 || shift $#
+[ $# -eq 0 ] && set -- --fix face:8
 out=$(mktemp)
 /usr/bin/time -f "%e %M" -o "$out.time" "$bin" modal "$model" --h "$h" --order 2 \
   --solver iterative --json "$@" >"$out"
