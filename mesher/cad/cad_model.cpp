@@ -44,6 +44,7 @@
 #include <utility>
 
 #include "mesher/cad/cad_impl.hpp"
+#include "mesher/cad/read_in_child.hpp"
 #include "mesher/cad/step_check.hpp"
 #include "mesher/mesh/error.hpp"
 
@@ -107,17 +108,8 @@ void check_step_entities(const fs::path& path, const STEPControl_Reader& reader)
   }
 }
 
-TopoDS_Shape read_step(const fs::path& path, CadModel::Impl& m) {
-  const std::string head = read_head(path, 64);
-  if (head.find("ISO-10303-21") == std::string::npos)
-    throw Error("'" + path.string() + "' is not a STEP file (no ISO-10303-21 header)");
-  {
-    std::ifstream in(path, std::ios::binary);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::string problem = step_entity_problem(text);
-    if (!problem.empty())
-      throw Error("'" + path.string() + "' is not a readable STEP file: " + problem);
-  }
+// The translation itself (in a child: read_in_child.hpp).
+TopoDS_Shape read_step_here(const fs::path& path, CadModel::Impl& m) {
   STEPControl_Reader reader;
   // Convert every length to millimetres on transfer (the unit the mesher works in).
   Interface_Static::SetCVal("xstep.cascade.unit", "MM");
@@ -139,6 +131,25 @@ TopoDS_Shape read_step(const fs::path& path, CadModel::Impl& m) {
   if (reader.TransferRoots() == 0 || reader.NbShapes() == 0)
     throw Error("'" + path.string() + "' contains no shape that can be transferred");
   return reader.OneShape();
+}
+
+// The header and the entity references are checked here; OpenCASCADE's translator is then tried
+// in a child first, since it crashes on some damaged files that pass them (a pcurve naming no
+// curve: StepToGeom::MakeCurve2d).
+TopoDS_Shape read_step(const fs::path& path, CadModel::Impl& m) {
+  const std::string head = read_head(path, 64);
+  if (head.find("ISO-10303-21") == std::string::npos)
+    throw Error("'" + path.string() + "' is not a STEP file (no ISO-10303-21 header)");
+  {
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string problem = step_entity_problem(text);
+    if (!problem.empty())
+      throw Error("'" + path.string() + "' is not a readable STEP file: " + problem);
+  }
+  return read_in_child(
+      path, "STEP", [&](CadModel::Impl& here) { return read_step_here(path, here); }, m,
+      ChildRead::kProbe);
 }
 
 // Holds std::cout's output while it lives. OCCT's BREP reader writes its complaints about a

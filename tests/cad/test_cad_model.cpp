@@ -330,6 +330,26 @@ TEST(CadModel, DamagedIgesGivesAnError) {
   EXPECT_EQ(good.num_faces(), 6);
 }
 
+// A pcurve's representation naming an entity of another type (the fuzz's seed 31): OpenCASCADE's
+// STEP translator dereferenced a null curve (StepToGeom::MakeCurve2d) and killed `info`, `mesh`
+// and `modal` with SIGSEGV. Now tried in a child first: a one-line error. The file read well
+// still gives the same model.
+TEST(CadModel, DamagedStepGivesAnError) {
+  std::string bad = cadtest::file_bytes(data("gehause_rohteil.stp"));
+  const auto at = bad.find("#5431 = DEFINITIONAL_REPRESENTATION('',(#5432)");
+  ASSERT_NE(at, std::string::npos);
+  bad.replace(bad.find("#5432", at), 5, "#5532");
+  std::ofstream(work("wrong_pcurve.stp"), std::ios::binary) << bad;
+  const std::string what = quiet_read_error(work("wrong_pcurve.stp").string());
+  EXPECT_NE(what.find("is not a readable STEP file (OpenCASCADE's reader crashed on it)"),
+            std::string::npos)
+      << what;
+  cadtest::expect_one_line_error("info " + work("wrong_pcurve.stp").string(), "crashed");
+  cadtest::expect_one_line_error("mesh " + work("wrong_pcurve.stp").string() + " --h 2", "crashed");
+  const CadModel good = CadModel::read(data("gehause_rohteil.stp"));
+  EXPECT_GT(good.num_faces(), 0);
+}
+
 // The entity-number check (issue 14: OpenCASCADE crashed on "#1e999", numbers past 2^31 - 1 and
 // references to undefined entities), on texts whose answer is read off by hand.
 TEST(StepEntityCheck, NumbersAndReferences) {

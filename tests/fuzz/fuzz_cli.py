@@ -3,7 +3,8 @@
 
 Each input is a seed with bytes flipped, a cut, lines dropped or repeated, or numbers replaced
 by NaN, inf or huge values. CAD inputs go through `info --json` and `mesh --dim 2`, MSH inputs
-through `stats` and `convert` (to .msh, binary .msh, .vtu and .inp in turn). OpenCASCADE's IGES
+through `stats` and `convert` (to .msh, binary .msh, .vtu and .inp in turn), a tet mesh through
+`stats` and `recombine`. OpenCASCADE's IGES
 reader crashed on cut files and its BREP reader printed on stdout or hung (session 37). Every run has a time and a
 memory limit. A run fails when it
   - ends by a signal or with an exit code >= 128 (a crash, an abort, an OOM kill),
@@ -165,7 +166,47 @@ def make_seeds(hexfem, work, memory_mb):
             with open(out, "rb") as f:
                 seeds.append((os.path.basename(out), "msh", f.read()))
     seeds.append(("seed_22.msh", "msh", MSH22))
+    seeds.append(("seed_tets.msh", "tets", cubes_of_tets_msh(2)))
     return seeds
+
+
+def cubes_of_tets_msh(n):
+    """MSH 2.2: n^3 unit cubes, six tets each along the cube's diagonal, and the boundary
+    triangles tagged by box side (1-6): an input for `recombine`."""
+    node = lambda i, j, k: 1 + i + (n + 1) * (j + (n + 1) * k)
+    lines, elements = [], []
+    for k in range(n + 1):
+        for j in range(n + 1):
+            for i in range(n + 1):
+                lines.append(f"{node(i, j, k)} {i} {j} {k}")
+    axes = [(1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    perms = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
+    for k in range(n):
+        for j in range(n):
+            for i in range(n):
+                for p in perms:
+                    a = (i, j, k)
+                    b = tuple(x + y for x, y in zip(a, axes[p[0]]))
+                    c = tuple(x + y for x, y in zip(b, axes[p[1]]))
+                    d = (i + 1, j + 1, k + 1)
+                    elements.append(("4 2 1 1", [node(*a), node(*b), node(*c), node(*d)]))
+    for side in range(6):
+        axis, top = side // 2, side % 2
+        u, v = [x for x in range(3) if x != axis]
+        for s in range(n):
+            for t in range(n):
+                def at(ds, dt):
+                    q = [0, 0, 0]
+                    q[axis], q[u], q[v] = top * n, s + ds, t + dt
+                    return node(*q)
+                tag = f"2 2 {side + 1} {side + 1}"
+                elements.append((tag, [at(0, 0), at(1, 0), at(1, 1)]))
+                elements.append((tag, [at(0, 0), at(1, 1), at(0, 1)]))
+    out = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$Nodes", str(len(lines))] + lines
+    out += ["$EndNodes", "$Elements", str(len(elements))]
+    out += [f"{e + 1} {tag} {' '.join(map(str, ids))}" for e, (tag, ids) in enumerate(elements)]
+    out += ["$EndElements", ""]
+    return "\n".join(out).encode()
 
 
 MSH22 = b"""$MeshFormat
@@ -208,6 +249,8 @@ def commands(kind, name, path, i, work):
         h = STEP_H.get(name, 4.0)
         return [["info", "--json", path], ["mesh", path, "--h", str(h), "--dim", "2"]]
     out = os.path.join(work, f"out{i}." + ["msh", "msh", "vtu", "inp"][i % 4])
+    if kind == "tets":
+        return [["stats", path], ["recombine", path, "-o", out]]
     convert = ["convert", path, out] + (["--binary"] if i % 4 == 1 else [])
     return [["stats", path], convert]
 
