@@ -106,9 +106,10 @@ int run(const ConvergeArgs& a) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
+  std::string fixed;
+  for (const std::string& f : a.modal.fix) fixed += (fixed.empty() ? "" : ", ") + f;
   std::printf("%s: material %s, fixed %s; lengths in mm, frequencies in Hz\nelements %s\n",
-              study.part.c_str(), material_summary(modal.material).c_str(),
-              a.modal.fix.front().c_str(),
+              study.part.c_str(), material_summary(modal.material).c_str(), fixed.c_str(),
               element_formulations(a.modal.order, modal.incompatible_hex).c_str());
   // One bound for every row, or the rows' own (the mesher's retries may raise it for one h).
   const bool same_bound = std::all_of(curvature.begin(), curvature.end(),

@@ -214,8 +214,8 @@ int run(const Args& a) {
                                                         : "default (the file records none)";
   std::vector<std::string> warnings =
       cad_input ? part.mesh_report.warnings : unit_warnings(mesh, units);
+  std::int32_t parts = 1;
   if (a.free) {
-    std::int32_t parts = 0;
     connected_parts(mesh, NodeTies{}, &parts);
     if (parts > 1)
       warnings.push_back("the mesh has " + std::to_string(parts) +
@@ -329,7 +329,10 @@ int run(const Args& a) {
     std::printf("material  solid %d: %s: E = %.6g Pa, nu = %g, rho = %g kg/m^3\n", solid,
                 m.name.c_str(), m.E, m.nu, m.rho);
   if (a.modal.fix.empty())
-    std::printf("boundary  free-free (six rigid-body modes expected near 0 Hz)\n");
+    std::printf(
+        "boundary  free-free (%d rigid-body modes expected near 0 Hz: six per "
+        "connected part)\n",
+        6 * parts);
   for (std::size_t i = 0; i < a.modal.fix.size(); ++i)
     std::printf("boundary  --fix %s: %zu nodes\n", a.modal.fix[i].c_str(), fixed_nodes[i]);
   std::printf(

@@ -97,6 +97,25 @@ std::string same_mesh_note(const ConvergenceStudy& s) {
   return out;
 }
 
+// What the observed order is read from.
+std::string order_basis(const ConvergenceStudy& s) {
+  return s.reference.empty() ? "the last three sizes" : "the last two sizes' errors";
+}
+
+// A negative order: the differences (or errors) grow from one size to the next, so the sizes
+// are not yet where the error goes as h^p (a clamp rim or a re-entrant edge, whose singular
+// field the uniform sizes do not resolve: gehause_rohteil at h = 5.6, 2.8, 1.4 read -1.5).
+std::string growing_note(const ConvergenceStudy& s) {
+  std::string modes;
+  for (int i = 0; i < s.num_frequencies(); ++i)
+    if (s.observed_order(s.rows.size() - 1, i) < 0) modes += " f" + std::to_string(i + 1);
+  if (modes.empty()) return "";
+  return "note:" + modes + ": the " +
+         (s.reference.empty() ? std::string("differences") : std::string("errors")) +
+         " grow from one size to the next (order < 0): these sizes are not yet in the "
+         "asymptotic range; refine further, or grade the singular edges (--singular-size)\n";
+}
+
 }  // namespace
 
 int ConvergenceStudy::num_frequencies() const {
@@ -115,19 +134,37 @@ bool ConvergenceStudy::same_mesh(std::size_t r) const {
          rows[r].cells == rows[r - 1].cells;
 }
 
+double order_of_three_sizes(double h0, double h1, double h2, double q) {
+  if (!(q > 0) || !(h0 > h1 && h1 > h2 && h2 > 0)) return kNaN;
+  const double l0 = std::log(h0 / h1), l2 = std::log(h2 / h1);
+  // g(p) = (h0^p - h1^p) / (h1^p - h2^p), over h1^p; expm1 keeps small p exact. g rises from 0
+  // (p -> -inf) to inf, through l0 / -l2 at p = 0: one root, found by bisection.
+  auto g = [&](double p) {
+    return std::abs(p) < 1e-12 ? l0 / -l2 : std::expm1(p * l0) / -std::expm1(p * l2);
+  };
+  double lo = -30, hi = 30;
+  if (!(g(lo) < q && q < g(hi))) return kNaN;
+  for (int k = 0; k < 200 && hi - lo > 1e-14; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (g(mid) < q ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 double ConvergenceStudy::observed_order(std::size_t r, int i) const {
   if (r == 0 || same_mesh(r)) return kNaN;
-  const double ratio = std::log(rows[r - 1].h / rows[r].h);
   if (!reference.empty()) {
     const double e0 = std::abs(error(r - 1, i)), e1 = std::abs(error(r, i));
     if (!(e0 > 0 && e1 > 0)) return kNaN;
-    return std::log(e0 / e1) / ratio;
+    return std::log(e0 / e1) / std::log(rows[r - 1].h / rows[r].h);
   }
   if (r < 2 || same_mesh(r - 1)) return kNaN;
-  const double d0 = std::abs(rows[r - 1].frequencies[i] - rows[r - 2].frequencies[i]);
-  const double d1 = std::abs(rows[r].frequencies[i] - rows[r - 1].frequencies[i]);
-  if (!(d0 > 0 && d1 > 0)) return kNaN;
-  return std::log(d0 / d1) / ratio;
+  // Sizes in any ratio: log(d0 / d1) / log(ratio) holds only when h0 / h1 = h1 / h2 (the cube
+  // at h = 5, 3.33, 2.5 read 3.64 for 1.99).
+  const double d0 = rows[r - 1].frequencies[i] - rows[r - 2].frequencies[i];
+  const double d1 = rows[r].frequencies[i] - rows[r - 1].frequencies[i];
+  if (!(d0 != 0 && d1 != 0)) return kNaN;
+  return order_of_three_sizes(rows[r - 2].h, rows[r - 1].h, rows[r].h, d0 / d1);
 }
 
 bool ConvergenceStudy::monotone(int i) const {
@@ -194,13 +231,13 @@ std::string convergence_text(const ConvergenceStudy& s) {
     out += "(" + s.reference_source + ")\n";
   }
   out += same_mesh_note(s);
-  out += "observed order (last pair):";
+  out += "observed order (" + order_basis(s) + "):";
   for (int i = 0; i < nf; ++i)
     out += " f" + std::to_string(i + 1) + " " + fmt("%.2f", s.observed_order(s.rows.size() - 1, i));
   out += "\nmonotone:";
   for (int i = 0; i < nf; ++i)
     out += std::string(" f") + std::to_string(i + 1) + (s.monotone(i) ? " yes" : " no");
-  out += "\n";
+  out += "\n" + growing_note(s);
   return out;
 }
 
@@ -234,11 +271,12 @@ std::string convergence_markdown(const ConvergenceStudy& s) {
     out += "\n\nReference: " + s.reference_source + "\n";
   }
   out += "\n" + same_mesh_note(s);
-  out += "Observed order (finest pair):";
+  out += "Observed order (" + order_basis(s) + "):";
   for (int i = 0; i < nf; ++i)
     out += " f" + std::to_string(i + 1) + " " +
            fmt("%.2f", s.observed_order(s.rows.size() - 1, i)) + ";";
   out += "\n";
+  if (const std::string note = growing_note(s); !note.empty()) out += "\n" + note;
   return out;
 }
 

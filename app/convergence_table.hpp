@@ -36,6 +36,11 @@ struct ConvergenceStudy {
   bool monotone(int i) const;
 };
 
+// The order p of f(h) = f_inf + C h^p through three sizes h0 > h1 > h2 whose frequencies'
+// successive differences have the ratio q = (f1 - f0) / (f2 - f1), any size ratios; negative when
+// the differences grow. NaN when q <= 0 (the frequencies turn) or the sizes do not decrease.
+double order_of_three_sizes(double h0, double h1, double h2, double q);
+
 // Reads "reference_hz": [...] from a JSON file (validation/reference/*.json layout).
 std::vector<double> read_reference_json(const std::filesystem::path& path);
 

@@ -66,8 +66,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
       "of --h, e.g. 0.25; 0 = off. Default: re-entrant edges only, at 0.5 at order 2; off at "
       "order 1");
   sub.add_flag("--no-pyramids", o.no_pyramids,
-               "CAD input: make no pyramids (a quad face against two triangles stays NC; tied at "
-               "order 2)");
+               "CAD input: make no pyramids (a quad face against two triangles stays NC; at "
+               "order 2 its hanging node is tied to the quad where it lies on it, else left free, "
+               "with a warning)");
   sub.add_flag("--no-edge-spacing-size", o.no_edge_spacing_size,
                "CAD input: size the edge points by the size field, not by the spacing their "
                "edges got (as on `mesh`)");

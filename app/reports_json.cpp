@@ -22,6 +22,9 @@ void to_json(nlohmann::json& j, const ModalResult& r) {
   j["fixed_dofs"] = r.num_fixed_dofs;
   j["free_dofs"] = r.num_free_dofs;
   j["mass_kg"] = r.total_mass;
+  // The mass the free DOFs carry per direction (what CalculiX calls the total effective mass):
+  // the effective mass fractions sum towards it, not towards 1, on a clamped part.
+  j["free_mass_kg"] = {r.free_mass[0], r.free_mass[1], r.free_mass[2]};
   j["volume_m3"] = r.volume;
   j["modes"] = nlohmann::json::array();
   for (std::size_t m = 0; m < r.frequencies.size(); ++m) {

@@ -336,7 +336,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
     std::snprintf(buf, sizeof buf,
                   "%zu of %zu hexes went back to tets to keep the mesh volume within %.1e of the "
                   "tets' (their faces on curved or thin walls change it by %.1e); `hexfem mesh "
-                  "--max-gap %.1e` keeps them",
+                  "--max-gap %.1e` keeps them (a mesh `hexfem modal` then reads)",
                   undone, hexes + undone, options.volume.max_total_gap,
                   std::abs(r.volume.volume_gap_before), keep);
     r.warnings.push_back(buf);

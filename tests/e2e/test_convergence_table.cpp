@@ -42,6 +42,33 @@ TEST(ConvergenceTable, OrderFromThreeRowsWithoutReference) {
   EXPECT_TRUE(std::isnan(s.error(0, 0)));
 }
 
+// Sizes not in one ratio (the audit's cube at h = 5, 3.33, 2.5 read 3.64 for 1.99): f = 100 +
+// h^2 at h = 4, 3, 2 gives differences -7 and -5, q = 7/5, and (16 - 9)/(9 - 4) = 7/5 holds for
+// p = 2 exactly; the old log(q)/log(4/3) read 1.17. And h^-1 (growing differences): p = -1.
+TEST(ConvergenceTable, OrderFromSizesInAnyRatio) {
+  EXPECT_NEAR(order_of_three_sizes(4, 3, 2, 7.0 / 5.0), 2.0, 1e-10);
+  EXPECT_NEAR(order_of_three_sizes(2, 1, 0.5, 4.0), 2.0, 1e-10);  // ratio 2: log(4)/log(2)
+  const double q = (1.0 / 4 - 1.0 / 3) / (1.0 / 3 - 1.0 / 2);     // f = 100 + 1/h
+  EXPECT_NEAR(order_of_three_sizes(4, 3, 2, q), -1.0, 1e-10);
+  EXPECT_TRUE(std::isnan(order_of_three_sizes(4, 3, 2, -1.0)));  // the frequencies turn
+  EXPECT_TRUE(std::isnan(order_of_three_sizes(2, 3, 1, 2.0)));   // sizes out of order
+
+  ConvergenceStudy s;
+  for (double h : {4.0, 3.0, 2.0}) {
+    ConvergenceRow row;
+    row.h = h;
+    row.frequencies = {100 + h * h, 200 + 1 / h};
+    s.rows.push_back(row);
+  }
+  EXPECT_NEAR(s.observed_order(2, 0), 2.0, 1e-10);
+  EXPECT_NEAR(s.observed_order(2, 1), -1.0, 1e-10);
+  const std::string text = convergence_text(s);
+  EXPECT_NE(text.find("observed order (the last three sizes): f1 2.00 f2 -1.00"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("note: f2: the differences grow"), std::string::npos) << text;
+  EXPECT_EQ(convergence_text(quadratic_study(false)).find("note:"), std::string::npos);
+}
+
 TEST(ConvergenceTable, NonMonotoneIsReported) {
   ConvergenceStudy s = quadratic_study(true);
   s.rows[2].frequencies[0] = 105.0;  // worse than h = 1 (101)
