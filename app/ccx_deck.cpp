@@ -79,12 +79,34 @@ std::filesystem::path ccx_deck_mesh_path(const std::filesystem::path& deck) {
   return mesh_file.replace_filename(deck.stem().string() + "_mesh.inp");
 }
 
+long straighten_for_ccx(MixedMesh& mesh, const std::vector<char>& mask) {
+  long n = 0;
+  const auto& edges = edges_of(CellKind::Pyramid5);
+  for (std::size_t c = 0; c < mask.size(); ++c) {
+    if (mask[c] != 2) continue;
+    const std::int32_t* v = mesh.cell(c);
+    const std::int32_t* mid = mesh.cell_edges(c);
+    for (int e = 0; e < num_edges(CellKind::Pyramid5); ++e) {
+      const Vec3 &a = mesh.nodes[v[edges[e][0]]], &b = mesh.nodes[v[edges[e][1]]];
+      mesh.nodes[mid[e]] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
+    }
+    ++n;
+  }
+  return n;
+}
+
 CcxDeckFiles write_ccx_deck(const MixedMesh& mesh, const ModalOptions& options,
                             const std::vector<std::uint8_t>& fixed,
                             const std::filesystem::path& deck) {
   const std::filesystem::path mesh_file = ccx_deck_mesh_path(deck);
-  const std::vector<char> reduced = pyramids_ccx_refuses_mask(mesh);
-  write_inp(mesh, mesh_file, node_tie_list(nc_face_ties(mesh, fixed)),
+  // A pyramid inside out at C3D20R's points too would make ccx refuse the whole deck: its
+  // mid-edge nodes go to their edges' middles in the deck (the neighbours on those edges follow),
+  // where the collapsed C3D20 is valid. The deck then checks a model a few edges straighter.
+  MixedMesh deck_mesh = mesh;
+  std::vector<char> reduced = pyramids_ccx_refuses_mask(mesh);
+  const long straightened = straighten_for_ccx(deck_mesh, reduced);
+  if (straightened > 0) reduced = pyramids_ccx_refuses_mask(deck_mesh);
+  write_inp(deck_mesh, mesh_file, node_tie_list(nc_face_ties(mesh, fixed)),
             mesh.order == 1 && options.incompatible_hex, reduced);
 
   // A consistent system in the mesh's length unit L (s metres), newtons and seconds: stress in
@@ -122,7 +144,13 @@ CcxDeckFiles write_ccx_deck(const MixedMesh& mesh, const ModalOptions& options,
     }
     out << "*STEP\n*FREQUENCY\n" << options.num_modes << "\n*END STEP\n";
   });
-  return {deck, mesh_file, ccx_pyramid_warning(reduced, mesh_file)};
+  std::string warning = ccx_pyramid_warning(reduced, mesh_file);
+  if (straightened > 0)
+    warning += (warning.empty() ? "" : "; ") + std::to_string(straightened) +
+               " pyramid(s) inside out at C3D20R's points too are straight in " +
+               mesh_file.string() +
+               " (their mid-edge nodes at their edges' middles, so ccx can read the deck)";
+  return {deck, mesh_file, warning};
 }
 
 }  // namespace hexfem

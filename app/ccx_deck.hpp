@@ -23,6 +23,11 @@ std::vector<char> pyramids_ccx_refuses_mask(const MixedMesh& mesh);
 // The warning for an .inp written with that mask ("" when it flags nothing).
 std::string ccx_pyramid_warning(const std::vector<char>& mask, const std::filesystem::path& inp);
 
+// For the deck: the pyramids `mask` flags 2 (inside out at C3D20R's points too) made straight,
+// each mid-edge node at its edge's middle (the cells sharing those edges follow). Returns how
+// many.
+long straighten_for_ccx(MixedMesh& mesh, const std::vector<char>& mask);
+
 // JOB_mesh.inp beside JOB.inp.
 std::filesystem::path ccx_deck_mesh_path(const std::filesystem::path& deck);
 
