@@ -293,7 +293,7 @@ int run(const Args& a) {
   bool first = true;
   for (int k = kNumCellKinds - 1; k >= 0; --k)
     if (count[k]) {
-      std::printf("%s%s %zu", first ? "" : ", ", kind_name(CellKind(k)), count[k]);
+      std::printf("%s%s %zu", first ? "" : ", ", kind_name(CellKind(k), mesh.order), count[k]);
       first = false;
     }
   std::printf("), %zu non-conformal quad faces\n", mesh.nc_cell.size());
