@@ -149,6 +149,28 @@ std::size_t flip_toward_delaunay_3d(CDT& cdt, const FacePointSet& P) {
   return total;
 }
 
+// Unique, in the order of the points' ids: an order by handle (an address) would change from
+// run to run wherever the removals interact.
+void sort_by_id(std::vector<CDT::Vertex_handle>& v) {
+  std::sort(v.begin(), v.end(), [](const CDT::Vertex_handle& a, const CDT::Vertex_handle& b) {
+    return a->info().id < b->info().id;
+  });
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// Whether every triangle around v turns counter-clockwise in the parameter plane. CGAL's
+// remove() fills the hole left by v assuming so; around a folded triangle (a wild surface: the
+// fuzz's sphere with one B-spline weight at 92) it looped for ever.
+bool star_unfolded(const CDT& cdt, CDT::Vertex_handle v) {
+  auto fc = cdt.incident_faces(v), end = fc;
+  do {
+    if (cdt.is_infinite(fc) || cdt.orientation(fc->vertex(0)->point(), fc->vertex(1)->point(),
+                                               fc->vertex(2)->point()) != CGAL::LEFT_TURN)
+      return false;
+  } while (++fc != end);
+  return true;
+}
+
 void remove_flat_points(CDT& cdt, const FacePointSet& P) {
   const int nb = P.nb;
   // An interior point lying almost on the line between two of its neighbours (where the
@@ -167,8 +189,7 @@ void remove_flat_points(CDT& cdt, const FacePointSet& P) {
         flat.push_back(v);
     }
   }
-  std::sort(flat.begin(), flat.end());
-  flat.erase(std::unique(flat.begin(), flat.end()), flat.end());
+  sort_by_id(flat);
   for (const auto& v : flat) {
     // The star of an interior point lies inside the face, on one nesting level.
     double before = std::numbers::pi;
@@ -184,7 +205,7 @@ void remove_flat_points(CDT& cdt, const FacePointSet& P) {
       before = std::min(before, min_angle(P, fc));
       ring.push_back(fc->vertex(CDT::ccw(fc->index(v))));
     } while (++fc != fc_end);
-    if (!inside) continue;
+    if (!inside || !star_unfolded(cdt, v)) continue;
     for (const auto& w : ring) {
       auto g = cdt.incident_faces(w), g_end = g;
       do
@@ -241,9 +262,9 @@ void remove_folded_points(CDT& cdt, const FacePointSet& P, const CadModel& cad, 
         if (fh->vertex(i)->info().id >= P.nb) folded.push_back(fh->vertex(i));
     }
     if (folded.empty()) return;
-    std::sort(folded.begin(), folded.end());
-    folded.erase(std::unique(folded.begin(), folded.end()), folded.end());
-    for (const auto& v : folded) cdt.remove(v);
+    sort_by_id(folded);
+    for (const auto& v : folded)
+      if (star_unfolded(cdt, v)) cdt.remove(v);
     mark_nesting_levels(cdt);
   }
 }
