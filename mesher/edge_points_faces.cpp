@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "mesher/edge_points.hpp"
+#include "mesher/mesh/error.hpp"
 #include "mesher/rtree2d.hpp"
 #include "mesher/vec3.hpp"
 
@@ -90,6 +92,13 @@ FaceBoundary face_boundary(const CadModel& cad, int f, const EdgePoints& p) {
     }
     list.push_back(i);
   }
+  // A damaged pcurve (a NaN in the file) would reach CGAL's exact arithmetic, which GMP ends
+  // with SIGFPE (the fuzz, seed 53).
+  for (const Vec2& uv : b.uv)
+    if (!std::isfinite(uv[0]) || !std::isfinite(uv[1]))
+      throw Error("face " + std::to_string(f) +
+                  ": a point of its boundary has no finite parameter (a damaged curve on the "
+                  "face in the CAD file)");
   return b;
 }
 

@@ -133,6 +133,18 @@ TEST(CliSurface, AFoldedFaceIsRefusedNotHung) {
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
 }
 
+// The fuzz's cone with a NaN in a curve on its face (seed 53): the NaN reached CGAL's exact
+// arithmetic and GMP ended hexfem with SIGFPE. Now the face's boundary is checked first.
+TEST(CliSurface, ANanOnAFaceBoundaryIsAnError) {
+  std::string brep = file_bytes(data("Cone_1.brep"));
+  const auto at = brep.find("\n1 6.2831853071795862 -0 0 1 \n");
+  ASSERT_NE(at, std::string::npos);
+  brep.replace(at + 22, 2, "nan");
+  const auto nan_brep = work("nan_cone.brep");
+  std::ofstream(nan_brep, std::ios::binary) << brep;
+  expect_error("mesh " + nan_brep.string() + " --h 40 --dim 2", "no finite parameter");
+}
+
 TEST(CliSurface, BadInputFailsWithOneLine) {
   {
     std::ofstream(work("cli_empty.step"));
