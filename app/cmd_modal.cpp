@@ -306,6 +306,9 @@ int run(const Args& a) {
         part.mesh_report.stats.nc_percent, part.mesh_report.stats.inverted,
         part.mesh_report.volume_error, part.mesh_seconds, part.mesh_peak_bytes / 1e9,
         a.mesh_out.empty() ? "" : "; written to ", a.mesh_out.c_str());
+  if (const std::string range = solid_volume_range(part.mesh_report.solids);
+      cad_input && !range.empty())
+    std::printf("solids    %s\n", range.c_str());
   if (graded.fraction > 0) std::printf("grading   %s\n", graded.note().c_str());
   std::printf("elements  %s\n", element_formulations(mesh.order, opt.incompatible_hex).c_str());
   if (read_order2)

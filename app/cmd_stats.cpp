@@ -20,7 +20,10 @@ int run_stats(const std::string& path, bool json) {
   if (mesh.order == 2) {
     // The corners alone miss the curved boundary (a coarse sphere: 1 % of its volume) and a
     // cell folded between its nodes.
-    s.volume = mesh_volume(mesh);
+    const std::vector<double> volumes = element_volumes(mesh);
+    s.volume = 0;
+    for (double v : volumes) s.volume += v;
+    s.solid_volumes = volume_by_solid(mesh, volumes);
     long inverted = 0;
     const auto n = static_cast<std::ptrdiff_t>(mesh.num_cells());
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : inverted)

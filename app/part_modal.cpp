@@ -130,13 +130,19 @@ Order2Report raise_part_to_order2(MixedMesh& mesh, const CadModel& cad, bool all
   // The straight cells' volume (mesh_part's) misses what the curved boundary adds back: at a
   // coarse h on a sphere -19 % straight, -0.7 % curved.
   auto& warnings = report.warnings;
-  const std::string straight_warning = volume_warning(report.volume_error, h);
-  if (!straight_warning.empty())
-    warnings.erase(std::remove(warnings.begin(), warnings.end(), straight_warning), warnings.end());
-  report.mesh_volume = mesh_volume(mesh);
+  for (const std::string& straight :
+       {volume_warning(report.volume_error, h), solid_volume_warning(report.solids, h)})
+    if (!straight.empty())
+      warnings.erase(std::remove(warnings.begin(), warnings.end(), straight), warnings.end());
+  const std::vector<double> volumes = element_volumes(mesh);
+  report.mesh_volume = 0;
+  for (double v : volumes) report.mesh_volume += v;
   if (report.cad_volume > 0)
     report.volume_error = (report.mesh_volume - report.cad_volume) / report.cad_volume;
   if (const std::string w = volume_warning(report.volume_error, h); !w.empty())
+    warnings.push_back(w);
+  report.solids = solid_volume_errors(cad, volume_by_solid(mesh, volumes));
+  if (const std::string w = solid_volume_warning(report.solids, h); !w.empty())
     warnings.push_back(w);
   if (o2.nc_left_untied > 0)
     warnings.push_back(std::to_string(o2.nc_left_untied) +

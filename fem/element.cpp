@@ -317,6 +317,12 @@ double element_volume(const MixedMesh& mesh, std::size_t c) {
   return v;
 }
 
+std::vector<double> element_volumes(const MixedMesh& mesh) {
+  std::vector<double> v(mesh.num_cells());
+  for (std::size_t c = 0; c < v.size(); ++c) v[c] = element_volume(mesh, c);
+  return v;
+}
+
 double mesh_volume(const MixedMesh& mesh) {
   double v = 0;
   for (std::size_t c = 0; c < mesh.num_cells(); ++c) v += element_volume(mesh, c);

@@ -94,6 +94,7 @@ double element_jacobian_ratio_at_nodes_and_points(const MixedMesh& mesh, std::si
 // the production rule, as the mass matrix integrates it (exact for hex20 and tet10, whose det J
 // the rules integrate exactly).
 double element_volume(const MixedMesh& mesh, std::size_t c);
+std::vector<double> element_volumes(const MixedMesh& mesh);  // of every cell, in cell order
 double mesh_volume(const MixedMesh& mesh);
 
 // Strains (xx, yy, zz, 2xy, 2yz, 2zx) at each quadrature point for nodal displacements

@@ -215,6 +215,13 @@ void to_json(nlohmann::json& j, const MeshReport& r) {
   j["cad_volume"] = r.cad_volume;
   j["mesh_volume"] = r.mesh_volume;
   j["volume_error"] = r.volume_error;
+  nlohmann::json solids = nlohmann::json::array();
+  for (const SolidVolumeError& e : r.solids)
+    solids.push_back({{"solid", e.solid},
+                      {"cad_volume", e.cad_volume},
+                      {"mesh_volume", e.mesh_volume},
+                      {"volume_error", e.error}});
+  j["solids"] = solids;
   j["warnings"] = r.warnings;
   j["refined_faces"] = r.refined_faces;
   j["surface_points"] = r.surface.points;
@@ -254,7 +261,19 @@ std::string mesh_report_text(const MeshReport& r) {
   std::snprintf(buf, sizeof buf, " %.3f s, volume %.3f s%s), %.0f vertices/s\n", surface_total,
                 r.volume.total_seconds, earlier, vertices_per_second(r));
   out += buf;
+  if (const std::string range = solid_volume_range(r.solids); !range.empty())
+    out += "solids           " + range + "\n";
   return out;
+}
+
+std::string solid_volume_range(const std::vector<SolidVolumeError>& solids) {
+  if (solids.size() < 2) return "";
+  const auto [lo, hi] = std::minmax_element(
+      solids.begin(), solids.end(), [](const auto& a, const auto& b) { return a.error < b.error; });
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%zu, volume error per solid %+.2e (solid %d) to %+.2e (solid %d)",
+                solids.size(), lo->error, lo->solid, hi->error, hi->solid);
+  return buf;
 }
 
 }  // namespace hexfem

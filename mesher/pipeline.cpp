@@ -167,6 +167,47 @@ std::string volume_warning(double volume_error, double h) {
   return buf;
 }
 
+std::vector<SolidVolumeError> solid_volume_errors(const CadModel& cad,
+                                                  const std::vector<SolidVolume>& mesh_volumes) {
+  std::vector<SolidVolumeError> out;
+  if (cad.num_solids() < 2) return out;
+  for (const SolidVolume& m : mesh_volumes) {
+    SolidVolumeError e;
+    e.solid = m.solid;
+    e.cad_volume = cad.solid_volume(m.solid);
+    e.mesh_volume = m.volume;
+    e.error = e.cad_volume > 0 ? (e.mesh_volume - e.cad_volume) / e.cad_volume : 0;
+    out.push_back(e);
+  }
+  return out;
+}
+
+std::string solid_volume_warning(const std::vector<SolidVolumeError>& solids, double h) {
+  std::vector<const SolidVolumeError*> off;
+  for (const SolidVolumeError& s : solids)
+    if (std::abs(s.error) > kVolumeErrorWarning) off.push_back(&s);
+  if (off.empty()) return "";
+  const SolidVolumeError* worst = *std::max_element(
+      off.begin(), off.end(),
+      [](const auto* a, const auto* b) { return std::abs(a->error) < std::abs(b->error); });
+  std::string list;
+  for (const SolidVolumeError* s : off)
+    list += (list.empty() ? "" : ", ") + std::to_string(s->solid);
+  const char* hint = "(a smaller --h, --curvature N or --size-at helps)";
+  char buf[400];
+  if (off.size() == 1)
+    std::snprintf(buf, sizeof buf,
+                  "solid %d's mesh volume is %+.1f %% off its CAD volume, and its mass as much: "
+                  "h = %g is coarse for it %s",
+                  worst->solid, 100 * worst->error, h, hint);
+  else
+    std::snprintf(buf, sizeof buf,
+                  "solids %s have mesh volumes more than 2 %% off their CAD volumes (solid %d: "
+                  "%+.1f %%), and their masses as much: h = %g is coarse for them %s",
+                  list.c_str(), worst->solid, 100 * worst->error, h, hint);
+  return buf;
+}
+
 MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
   const double h = options.surface.h;
@@ -324,6 +365,8 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   // Chords across thin or strongly curved features cut volume off at a coarse h: legitimate,
   // but a user expecting the part's mass must hear of it.
   if (const std::string w = volume_warning(r.volume_error, h); !w.empty()) r.warnings.push_back(w);
+  r.solids = solid_volume_errors(cad, r.stats.solid_volumes);
+  if (const std::string w = solid_volume_warning(r.solids, h); !w.empty()) r.warnings.push_back(w);
   // The volume-gap stage keeps the mesh within max_total_gap of the tets' volume by sending
   // elements back to tets. Where the hexes' bilinear faces on curved thin walls lose volume
   // everywhere a little (1385_Laufrad at h = 8: 3.4e-3), it sends back half the hexes and H_vol

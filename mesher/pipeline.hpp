@@ -23,13 +23,24 @@ struct MeshOptions {
   double max_volume_points = 20e6;  // estimated interior points (V / h^3) allowed without force
 };
 
+// One CAD solid's mesh volume against its CAD volume (mm^3).
+struct SolidVolumeError {
+  int solid = 0;
+  double cad_volume = 0;
+  double mesh_volume = 0;
+  double error = 0;  // (mesh - CAD) / CAD
+};
+
 struct MeshReport {
   std::string file_unit;
   MeshStats stats;          // of the emitted mesh (checked: no inverted/flat cell, watertight)
   double cad_volume = 0;    // mm^3
   double mesh_volume = 0;   // sum of the cell volumes, mm^3
   double volume_error = 0;  // (mesh - CAD) / CAD
-  double cad_seconds = 0;   // reading the CAD file (when mesh_file is used)
+  // Per solid when the part has more than one: the whole can be right while a small solid (an
+  // assembly's bolt, with its own material) is off.
+  std::vector<SolidVolumeError> solids;
+  double cad_seconds = 0;  // reading the CAD file (when mesh_file is used)
   SurfaceReport surface;
   VolumeReport volume;
   double total_seconds = 0;
@@ -43,6 +54,12 @@ struct MeshReport {
 // The warning a mesh `volume_error` ((mesh - CAD) / CAD) off the CAD's volume at size h gets
 // (mesh_part adds it to MeshReport::warnings); empty within 2 %.
 std::string volume_warning(double volume_error, double h);
+
+// The solids' errors from the mesh's volume per solid (empty for a part of one solid), and the
+// warning for those off by more than 2 % (empty if none).
+std::vector<SolidVolumeError> solid_volume_errors(const CadModel& cad,
+                                                  const std::vector<SolidVolume>& mesh_volumes);
+std::string solid_volume_warning(const std::vector<SolidVolumeError>& solids, double h);
 
 // Hex-dominant mesh of every solid of the part. Throws hexfem::Error (one line) on bad options,
 // an h that would give more than max_volume_points without surface.force, or a failing stage.

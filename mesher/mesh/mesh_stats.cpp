@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <future>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -106,6 +107,7 @@ MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& f
   }
   for (int k = 0; k < kNumCellKinds; ++k)
     s.min_sj_per_kind[k] = s.cells_per_kind[k] ? min_sj[k] : 0.0;
+  s.solid_volumes = volume_by_solid(mesh, cell_vol);
   const int hex = static_cast<int>(CellKind::Hex8);
   if (s.num_cells) s.h_nbr = 100.0 * s.cells_per_kind[hex] / s.num_cells;
   if (s.volume > 0) s.h_vol = 100.0 * vol_per_kind[hex] / s.volume;
@@ -154,6 +156,15 @@ MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& f
   return s;
 }
 
+std::vector<SolidVolume> volume_by_solid(const MixedMesh& mesh,
+                                         const std::vector<double>& cell_volume) {
+  std::map<std::int32_t, double> sums;
+  for (std::size_t c = 0; c < mesh.num_cells(); ++c) sums[mesh.cell_solid[c]] += cell_volume[c];
+  std::vector<SolidVolume> out;
+  for (const auto& [solid, v] : sums) out.push_back({solid, v});
+  return out;
+}
+
 void to_json(nlohmann::json& j, const MeshStats& s) {
   j["order"] = s.order;
   j["nodes"] = s.num_nodes;
@@ -178,6 +189,10 @@ void to_json(nlohmann::json& j, const MeshStats& s) {
   j["open_boundary_edges"] = s.open_boundary_edges;
   j["watertight"] = s.watertight;
   j["volume"] = s.volume;
+  nlohmann::json solids = nlohmann::json::array();
+  for (const SolidVolume& v : s.solid_volumes)
+    solids.push_back({{"solid", v.solid}, {"volume", v.volume}});
+  j["volume_per_solid"] = solids;
 }
 
 std::string stats_to_text(const MeshStats& s) {
@@ -203,7 +218,14 @@ std::string stats_to_text(const MeshStats& s) {
                 s.nc_percent, s.nonconformal_quads, s.interior_quads,
                 s.watertight ? "watertight" : "NOT watertight", s.boundary_faces_derived,
                 s.open_boundary_edges, s.volume);
-  return buf;
+  std::string out = buf;
+  // One solid's volume is the whole's; of several, each (an assembly's bolts' mass).
+  if (s.solid_volumes.size() > 1)
+    for (const SolidVolume& v : s.solid_volumes) {
+      std::snprintf(buf, sizeof buf, "  solid %-9d %.10g\n", v.solid, v.volume);
+      out += buf;
+    }
+  return out;
 }
 
 }  // namespace hexfem

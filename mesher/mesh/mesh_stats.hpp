@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
 
@@ -10,6 +11,12 @@
 #include "mesher/mesh/mixed_mesh.hpp"
 
 namespace hexfem {
+
+// The volume of the cells of one CAD solid (MixedMesh::cell_solid).
+struct SolidVolume {
+  std::int32_t solid = 0;
+  double volume = 0;
+};
 
 struct MeshStats {
   int order = 1;  // the mesh's; the measures are of its corners (hexfem stats puts the curved
@@ -32,11 +39,16 @@ struct MeshStats {
   std::size_t open_boundary_edges = 0;     // boundary edges in an odd number of faces
   bool watertight = false;
   double volume = 0;
+  std::vector<SolidVolume> solid_volumes;  // per solid id, ascending (of the corners, as volume)
 };
 
 MeshStats compute_stats(const MixedMesh& mesh);
 // The same from sorted_cell_faces(mesh) (face_keys.hpp), for a caller that has them already.
 MeshStats compute_stats(const MixedMesh& mesh, const std::vector<CellFaceRef>& faces);
+
+// Sums cell_volume (one per cell) by the cells' solids, in cell order; ascending solid ids.
+std::vector<SolidVolume> volume_by_solid(const MixedMesh& mesh,
+                                         const std::vector<double>& cell_volume);
 
 // The same, as JSON (keys as the field names, per-kind maps keyed by kind_name()).
 void to_json(nlohmann::json& j, const MeshStats& s);  // `nlohmann::json j = stats;`
