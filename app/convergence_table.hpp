@@ -25,8 +25,10 @@ struct ConvergenceStudy {
   int num_frequencies() const;  // columns shown (min over rows, capped at 6)
   // Relative error of row r, frequency i, against the reference (NaN without one).
   double error(std::size_t r, int i) const;
-  // Rows r-1 and r have the same mesh (the same node and cell counts: a size the curvature
-  // bound or the part's features set, not h). Their frequencies differ by rounding only.
+  // Rows r-1 and r have the same mesh: the same node and cell counts and every frequency within
+  // 1e-9 (a size the curvature bound or the part's features set, not h; the coordinates may
+  // differ in their last bits). Equal counts alone are not the same mesh (a cube at h = 4 and 3:
+  // 27 cells each, f1 1.7e-4 apart).
   bool same_mesh(std::size_t r) const;
   // Observed order between rows r-1 and r: against the reference when there is one, else from
   // three consecutive rows (r-2, r-1, r). NaN when it cannot be computed, or when two of the

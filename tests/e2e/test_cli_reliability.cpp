@@ -190,6 +190,29 @@ TEST(Reliability, ConvergeWritesItsOutputsAndNothingElse) {
   EXPECT_EQ(magic, "\x89PNG");
 }
 
+// Two sizes that give the same node and cell counts need not give the same mesh: the cube at
+// h = 4 and 3 (27 cells each, other node positions and other frequencies) was said to be one
+// mesh and no order was read from it (interop audit, helper 12). The cylinder at h = 6 and 4.5
+// gives one mesh (its curvature bound sets the size; coordinates equal to their last bits), and
+// is still said to.
+TEST(Reliability, ConvergeSaysTheSameMeshOnlyOfTheSameMesh) {
+  const fs::path dir = fresh_dir("rel_converge_same");
+  std::string out;
+  ASSERT_EQ(run_cli("converge " + data("cube_10x10.igs") + " --h 4,3 --fix face:1 --modes 2 -o " +
+                        (dir / "c").string(),
+                    &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("\n4  "), std::string::npos) << out;
+  EXPECT_EQ(out.find("gave the same mesh"), std::string::npos) << out;
+  ASSERT_EQ(run_cli("converge " + data("cylinder.stp") + " --h 6,4.5 --fix face:1 --modes 2 -o " +
+                        (dir / "y").string(),
+                    &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("h = 4.5 gave the same mesh as h = 6"), std::string::npos) << out;
+}
+
 // Item 9k: a .vtu output of a mesh with NC faces has a companion <stem>_nc.vtu; it is checked
 // with the main output before the work, so the main file is never written alone.
 TEST(Reliability, TheNcCompanionOfAVtuIsCheckedBeforeTheWork) {
