@@ -284,6 +284,11 @@ TEST(Order2Modal, MeshReportDescribesTheWrittenOrder2Mesh) {
   EXPECT_NEAR(s["volume"].get<double>(), j["mesh_volume"].get<double>(), 1e-9 * sphere);
   EXPECT_LT(j["volume_mixed"].get<double>() / sphere, 0.995);  // the straight cells'
   EXPECT_EQ(s["order"], 2);
+  // "vertices" are the corners, as at order 1; with the mid-edge nodes, the file's nodes (the
+  // corners and mid-edge nodes were counted together only when an NC face had been made
+  // conformal: the interop audit).
+  EXPECT_EQ(j["vertices"].get<long>() + j["order2"]["edge_nodes"].get<long>(),
+            s["nodes"].get<long>());
   const std::string np = run("mesh " + std::string(HEXFEM_TEST_DATA) +
                                  "/sphere.stp --h 1.247 --order 2 --no-pyramids --json -o " + dir +
                                  "/o2_sphere_np.msh",
@@ -293,7 +298,10 @@ TEST(Order2Modal, MeshReportDescribesTheWrittenOrder2Mesh) {
   EXPECT_EQ(jn["cells"]["pyramid5"], 0);
   EXPECT_GT(jn["order2"]["nc_left_untied"], 0);
   const std::string sn = run("stats --json " + dir + "/o2_sphere_np.msh", &code);
-  EXPECT_EQ(nlohmann::json::parse(sn.substr(sn.find('{')))["cells_per_kind"]["pyramid5"], 0);
+  const nlohmann::json sj = nlohmann::json::parse(sn.substr(sn.find('{')));
+  EXPECT_EQ(sj["cells_per_kind"]["pyramid5"], 0);
+  EXPECT_EQ(jn["vertices"].get<long>() + jn["order2"]["edge_nodes"].get<long>(),
+            sj["nodes"].get<long>());
 }
 
 // A coarse sphere at order 2 whose straight cells are 19 % short of the CAD volume but whose
