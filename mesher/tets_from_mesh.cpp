@@ -33,6 +33,9 @@ struct TetFace {
   bool operator<(const TetFace& o) const { return key != o.key ? key < o.key : tet < o.tet; }
 };
 
+// Entity tags index arrays: a bound keeps a wild tag from asking for gigabytes.
+constexpr std::int32_t kMaxEntityTag = 1000000;
+
 void check_cells(const MixedMesh& mesh) {
   if (mesh.num_cells() == 0) throw Error("the mesh has no volume cells (recombine reads tets)");
   if (mesh.order != 1)
@@ -44,6 +47,19 @@ void check_cells(const MixedMesh& mesh) {
     if (mesh.cell_solid[c] < 1)
       throw Error("tet " + std::to_string(c + 1) +
                   " has no volume entity (tag >= 1): the volumes must be tagged");
+    if (mesh.cell_solid[c] > kMaxEntityTag)
+      throw Error("tet " + std::to_string(c + 1) + " has volume tag " +
+                  std::to_string(mesh.cell_solid[c]) + ", above " + std::to_string(kMaxEntityTag));
+  }
+  // The stages after TetGen index arrays by surface and volume ids (a tag of -1 crashed them,
+  // the fuzz, seed 67).
+  for (std::size_t f = 0; f < mesh.num_bfaces(); ++f) {
+    const std::int32_t tag = mesh.bface_cad_face[f];
+    const std::int32_t* b = mesh.bface(f);
+    if (tag < 1 || tag > kMaxEntityTag)
+      throw Error("boundary face " + tri_name({b[0], b[1], b[2]}) + " has surface tag " +
+                  std::to_string(tag) + ": the surfaces must be tagged 1 to " +
+                  std::to_string(kMaxEntityTag));
   }
 }
 

@@ -172,6 +172,16 @@ TEST(RecombineInput, WhatIsNotTetsWithTheirBoundaryIsRefusedByName) {
   MixedMesh untagged = cubes_of_tets(2);
   untagged.cell_solid[5] = 0;
   expect_error(untagged, "tet 6 has no volume entity");
+  // A surface tag of -1 crashed the stages after TetGen, which index arrays by it (the fuzz,
+  // seed 67); a wild one would ask for gigabytes.
+  for (const std::int32_t tag : {-1, 0, 2000000000}) {
+    MixedMesh bad_surface = cubes_of_tets(2);
+    bad_surface.bface_cad_face[3] = tag;
+    expect_error(bad_surface, "has surface tag " + std::to_string(tag));
+  }
+  MixedMesh wild_volume = cubes_of_tets(2);
+  wild_volume.cell_solid[2] = 2000000000;
+  expect_error(wild_volume, "tet 3 has volume tag 2000000000, above 1000000");
 
   // The command line: one line, exit 1, nothing written.
   write_mesh(hexes, work("hexes.msh"));
