@@ -99,6 +99,16 @@ FaceBoundary face_boundary(const CadModel& cad, int f, const EdgePoints& p) {
       throw Error("face " + std::to_string(f) +
                   ": a point of its boundary has no finite parameter (a damaged curve on the "
                   "face in the CAD file)");
+  // Two boundary points a rounding error apart (an edge whose pcurve collapsed onto a corner in
+  // a damaged file) make CGAL's refinement walk for ever (the fuzz, seed 67); a sound face's
+  // points are at least a tiny fraction of its extent apart.
+  const double min_gap = 1e-12 * std::max({bounds[1] - bounds[0], bounds[3] - bounds[2], 1e-300});
+  for (const auto& [i, j] : b.segments)
+    if (std::hypot(b.uv[i][0] - b.uv[j][0], b.uv[i][1] - b.uv[j][1]) < min_gap &&
+        b.node[i] != b.node[j])
+      throw Error("face " + std::to_string(f) +
+                  ": two points of its boundary coincide in the parameter plane (a damaged curve "
+                  "on the face in the CAD file)");
   return b;
 }
 

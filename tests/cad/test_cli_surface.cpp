@@ -148,6 +148,21 @@ TEST(CliSurface, ANanOnAFaceBoundaryIsAnError) {
   expect_error("mesh " + nan_brep.string() + " --h 40 --dim 2", "no finite parameter");
 }
 
+// The fuzz's cube with a control character in a curve's control point (seed 67): OCCT puts
+// one edge's parameter points within 1e-16 of a corner of the face's parameter square, and
+// CGAL's refinement of the cross field's background mesh walked for ever. Now one line.
+TEST(CliSurface, BoundaryPointsThatCoincideAreAnErrorNotAHang) {
+  const auto collapsed = damaged_copy(
+      "cube_10x10.igs", "\n126,1,1,0,0,1,0,0.,0.,1.,1.,1.,1.,-5.,0.,-5.,-5.,10.,", "-5.,-5.,10.",
+      "-5.,\x13"
+      "5.,10.",
+      "collapsed_edge.igs");
+  std::string out;
+  EXPECT_EQ(run_cli("mesh " + collapsed.string() + " --h 2 --dim 2", &out, "timeout 60"), 1) << out;
+  EXPECT_EQ(out.rfind("hexfem: error: face 2: two points of its boundary coincide", 0), 0u) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+}
+
 TEST(CliSurface, BadInputFailsWithOneLine) {
   {
     std::ofstream(work("cli_empty.step"));
