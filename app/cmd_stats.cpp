@@ -34,7 +34,9 @@ int run_stats(const std::string& path, bool json) {
   // The unit the file records, if any: the volume is in its cube.
   if (json) {
     nlohmann::json j = s;
-    if (!mesh.length_unit.empty()) j["length_unit"] = mesh.length_unit;
+    // null when the file records none (a .msh Gmsh rewrote): the key is always there.
+    j["length_unit"] =
+        mesh.length_unit.empty() ? nlohmann::json(nullptr) : nlohmann::json(mesh.length_unit);
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     std::printf("%s", stats_to_text(s).c_str());

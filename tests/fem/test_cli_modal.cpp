@@ -153,6 +153,13 @@ TEST(ModalCli, AMeshThatRecordsItsUnitIsSolvedInIt) {
       << agrees.out;
   expect_error(p.string() + " --fix face:1 --units SI",
                "records its coordinates in mm; --units SI contradicts it");
+  // stats names the unit, and says null for a file that records none (always the key).
+  const CliRun with = hexfem("stats " + p.string() + " --json");
+  const CliRun without = hexfem("stats " + beam_msh() + " --json");
+  ASSERT_EQ(with.code, 0) << with.out;
+  ASSERT_EQ(without.code, 0) << without.out;
+  EXPECT_EQ(nlohmann::json::parse(with.out)["length_unit"], "mm");
+  EXPECT_TRUE(nlohmann::json::parse(without.out).at("length_unit").is_null());
 }
 
 std::string slurp(const fs::path& p) {
