@@ -43,6 +43,7 @@ MeshReport report_for_retry(const MeshReport& r) {
   MeshReport again;
   again.file_unit = r.file_unit;
   again.cad_volume = r.cad_volume;
+  again.solid_cad_volumes = r.solid_cad_volumes;
   again.cad_seconds = r.cad_seconds;
   return again;
 }
@@ -88,6 +89,18 @@ MixedMesh mesh_volume_checked(const SurfaceMesh& surface, const MeshOptions& opt
   }
   r.mesh_volume = stats.volume;
   r.volume_error = r.cad_volume > 0 ? (r.mesh_volume - r.cad_volume) / r.cad_volume : 0;
+  r.retry_error = r.volume_error;
+  if (r.solid_cad_volumes.size() > 2) {
+    double worst = 0;
+    for (const SolidVolume& v : stats.solid_volumes) {
+      const double cad = static_cast<std::size_t>(v.solid) < r.solid_cad_volumes.size()
+                             ? r.solid_cad_volumes[v.solid]
+                             : 0;
+      const double e = cad > 0 ? (v.volume - cad) / cad : 0;
+      if (std::abs(e) > std::abs(worst)) worst = e;
+    }
+    r.retry_error = worst;
+  }
   return mesh;
 }
 
@@ -101,13 +114,22 @@ MixedMesh mesh_once(const CadModel& cad, const MeshOptions& options, MeshReport&
   return mesh_volume_checked(surface_once(cad, options, r), options, r);
 }
 
-// (V - V_CAD) / V_CAD for the volume V inside the surface mesh a report's checks measured, or
-// NaN for a part of several solids (faces between two of them are inside the part). The tets
-// fill exactly that volume, and the elements stay within max_total_gap of the tets' volume: the
-// volume mesh's error is this one within that gap.
+// (V - V_CAD) / V_CAD for the volume V inside the surface mesh a report's checks measured; for a
+// part of several solids, of the solid farthest off (MeshReport::retry_error). NaN without
+// checks. The tets fill exactly that volume, and the elements stay within max_total_gap of the
+// tets' volume: the volume mesh's error is this one within that gap.
 double surface_volume_error(const CadModel& cad, const SurfaceReport& surface, double cad_volume) {
-  if (cad.num_solids() != 1 || surface.checks.size() != 1 || !(cad_volume > 0)) return std::nan("");
-  return (surface.checks.front().volume - cad_volume) / cad_volume;
+  if (surface.checks.empty() || !(cad_volume > 0)) return std::nan("");
+  if (cad.num_solids() == 1 && surface.checks.size() == 1)
+    return (surface.checks.front().volume - cad_volume) / cad_volume;
+  double worst = std::nan("");
+  for (const auto& c : surface.checks) {
+    const double v = cad.solid_volume(c.solid);
+    if (!(v > 0)) return std::nan("");
+    const double e = (c.volume - v) / v;
+    if (!(std::abs(e) <= std::abs(worst))) worst = e;
+  }
+  return worst;
 }
 
 // mesh_once; where its mesh has flat or inverted cells, or its surface mesh crosses itself, the
@@ -227,6 +249,10 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   MeshReport& r = report ? *report : local;
   r.file_unit = cad.file_unit();
   r.cad_volume = cad.volume();
+  if (cad.num_solids() > 1) {
+    r.solid_cad_volumes.assign(static_cast<std::size_t>(cad.num_solids()) + 1, 0.0);
+    for (int s = 1; s <= cad.num_solids(); ++s) r.solid_cad_volumes[s] = cad.solid_volume(s);
+  }
 
   // At a size near the part's own (faces narrower than h, chords across whole holes) the
   // stages fail in their own terms (crossing boundaries, a self-intersecting surface); the user
@@ -276,7 +302,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
     SurfaceMesh first = surface_once(cad, options, a.report);
     const double off = surface_volume_error(cad, a.report.surface, r.cad_volume);
     if (sure_to_retry(off)) {
-      a.report.volume_error = off;
+      a.report.retry_error = off;
       a.waiting = std::move(first);
     } else {
       a.mesh = mesh_once_or_refined(cad, options, a.report, &first);
@@ -305,11 +331,12 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
     }
     return none_dropped;
   };
-  const double first_error = kept.front().report.volume_error;
+  const double first_error = kept.front().report.retry_error;
+  const bool several = cad.num_solids() > 1;
   auto retry_finer = [&](const MeshOptions& base, int curvature, const char* how) {
     for (int attempt = 0;
          attempt < kCurvatureRetries &&
-         std::abs(kept.back().report.volume_error) > kVolumeErrorRetry && options.surface.repair;
+         std::abs(kept.back().report.retry_error) > kVolumeErrorRetry && options.surface.repair;
          ++attempt) {
       Attempt next{base, report_for_retry(r), {}, {}};
       curvature = curvature > 0 ? 2 * curvature : 16;
@@ -322,11 +349,11 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
       }
       const double signed_off = surface_volume_error(cad, next.report.surface, r.cad_volume);
       const double off = std::abs(signed_off);
-      const double best = std::abs(kept.back().report.volume_error);
+      const double best = std::abs(kept.back().report.retry_error);
       if (off - best > 2 * margin) break;  // no closer, whatever its volume mesh
       const bool closer = best - off > 2 * margin;
       if (closer && sure_to_retry(off)) {
-        next.report.volume_error = signed_off;
+        next.report.retry_error = signed_off;
         next.waiting = std::move(surface);
       } else {
         try {
@@ -335,14 +362,14 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
           break;
         }
         if (!closer && !mesh_last()) break;  // too close to call against a waiting attempt
-        if (!(std::abs(next.report.volume_error) < std::abs(kept.back().report.volume_error)))
-          break;
+        if (!(std::abs(next.report.retry_error) < std::abs(kept.back().report.retry_error))) break;
       }
       char buf[300];
       std::snprintf(buf, sizeof buf,
-                    "at h = %g the mesh was %+.1f %% off the CAD volume; meshed again with a "
-                    "curvature bound of %d elements per turn%s",
-                    h, 100 * first_error, curvature, how);
+                    "at h = %g %s %+.1f %% off %s CAD volume; meshed again with a curvature "
+                    "bound of %d elements per turn%s",
+                    h, several ? "a solid's mesh was" : "the mesh was", 100 * first_error,
+                    several ? "its" : "the", curvature, how);
       next.report.warnings.push_back(buf);  // its own warnings: earlier attempts' meshes are gone
       kept.push_back(std::move(next));
     }
@@ -352,7 +379,7 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
   // The order-2 default stops the curvature bound at h/2 (curvature_min_ratio); where that
   // floor keeps the mesh off (Propeller at h = diagonal / 20: -17.5 % at every bound, while no
   // bound at all gives -3.7 %), the bound goes on without it before the part is refused.
-  if (std::abs(kept.back().report.volume_error) > kVolumeErrorRetry &&
+  if (std::abs(kept.back().report.retry_error) > kVolumeErrorRetry &&
       options.surface.curvature_min_ratio > 0) {
     MeshOptions unfloored = options;
     unfloored.surface.curvature_min_ratio = 0;

@@ -40,7 +40,12 @@ struct MeshReport {
   // Per solid when the part has more than one: the whole can be right while a small solid (an
   // assembly's bolt, with its own material) is off.
   std::vector<SolidVolumeError> solids;
-  double cad_seconds = 0;  // reading the CAD file (when mesh_file is used)
+  // What the curvature retries drive down: volume_error for one solid; for several, the error of
+  // the solid farthest off (at a coarse h a glued bolt loses to its chords what the plate around
+  // it gains, and the whole part's volume hides it).
+  double retry_error = 0;
+  std::vector<double> solid_cad_volumes;  // by solid id (0 unused), for retry_error
+  double cad_seconds = 0;                 // reading the CAD file (when mesh_file is used)
   SurfaceReport surface;
   VolumeReport volume;
   double total_seconds = 0;

@@ -5,6 +5,7 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -21,11 +22,17 @@ namespace {
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using PmpMesh = CGAL::Surface_mesh<K::Point_3>;
 
+// A boundary triangle of a solid: its bface index and its corners, outward from that solid.
+struct SolidTri {
+  std::size_t f;
+  std::array<int, 3> t;
+};
+
 // The triangles `tris` of m as a CGAL surface mesh; false when some triangle cannot be added
 // (a non-manifold vertex or edge). face_of[i] = the bface index of CGAL face i. A node marked in
 // `private_nodes` gets a copy of its own in each triangle, which keeps the CGAL mesh manifold
 // where two sheets of a solid touch along an edge.
-bool build_pmp_mesh(const MixedMesh& m, const std::vector<std::size_t>& tris, PmpMesh& mesh,
+bool build_pmp_mesh(const MixedMesh& m, const std::vector<SolidTri>& tris, PmpMesh& mesh,
                     std::vector<std::size_t>* face_of,
                     const std::vector<char>* private_nodes = nullptr) {
   std::unordered_map<int, PmpMesh::Vertex_index> vmap;
@@ -43,8 +50,7 @@ bool build_pmp_mesh(const MixedMesh& m, const std::vector<std::size_t>& tris, Pm
     return v;
   };
   bool built = true;
-  for (std::size_t f : tris) {
-    const auto* t = m.bface(f);
+  for (const auto& [f, t] : tris) {
     if (mesh.add_face(vertex(t[0]), vertex(t[1]), vertex(t[2])) == PmpMesh::null_face())
       built = false;
     else if (face_of)
@@ -53,12 +59,26 @@ bool build_pmp_mesh(const MixedMesh& m, const std::vector<std::size_t>& tris, Pm
   return built;
 }
 
-std::vector<std::size_t> triangles_of_solid(const SurfaceMesh& s, std::size_t solid) {
+std::vector<SolidTri> triangles_of_solid(const SurfaceMesh& s, std::size_t solid) {
+  // A face between two glued solids is oriented outward from the lower id (the CAD face's
+  // orientation in its first solid): for the other solid its triangles turn over.
+  std::vector<std::size_t> first;  // per CAD face: the lowest solid that holds it
+  for (std::size_t t = s.faces_of_solid.size(); t-- > 1;)
+    for (int f : s.faces_of_solid[t]) {
+      if (static_cast<std::size_t>(f) >= first.size()) first.resize(f + 1, 0);
+      first[f] = t;
+    }
   const auto& faces = s.faces_of_solid[solid];
-  std::vector<std::size_t> tris;
-  for (std::size_t f = 0; f < s.mesh.num_bfaces(); ++f)
-    if (std::find(faces.begin(), faces.end(), s.mesh.bface_cad_face[f]) != faces.end())
-      tris.push_back(f);
+  std::vector<SolidTri> tris;
+  for (std::size_t f = 0; f < s.mesh.num_bfaces(); ++f) {
+    const int cad_face = s.mesh.bface_cad_face[f];
+    if (std::find(faces.begin(), faces.end(), cad_face) == faces.end()) continue;
+    const auto* b = s.mesh.bface(f);
+    if (first[cad_face] == solid)
+      tris.push_back({f, {b[0], b[1], b[2]}});
+    else
+      tris.push_back({f, {b[0], b[2], b[1]}});
+  }
   return tris;
 }
 
@@ -96,7 +116,7 @@ void mark_touching(std::vector<char>& touching, std::size_t num_nodes,
 // can build a manifold mesh. nullopt when no CGAL mesh can be built (a non-manifold vertex
 // elsewhere).
 std::optional<std::vector<std::pair<std::size_t, std::size_t>>> intersecting_triangles(
-    const MixedMesh& m, const std::vector<std::size_t>& tris, const std::vector<char>& touching) {
+    const MixedMesh& m, const std::vector<SolidTri>& tris, const std::vector<char>& touching) {
   PmpMesh mesh;
   std::vector<std::size_t> face_of;
   if (!build_pmp_mesh(m, tris, mesh, &face_of, touching.empty() ? nullptr : &touching))
@@ -221,13 +241,12 @@ std::vector<SolidCheck> check_solids(const SurfaceMesh& s, bool self_intersectio
   for (std::size_t solid = 1; solid < s.faces_of_solid.size(); ++solid) {
     SolidCheck c;
     c.solid = static_cast<int>(solid);
-    const std::vector<std::size_t> tris = triangles_of_solid(s, solid);
+    const std::vector<SolidTri> tris = triangles_of_solid(s, solid);
     c.triangles = tris.size();
     // Directed edge counts: a closed, consistently oriented manifold uses each undirected edge
     // once in each direction.
     std::map<std::pair<int, int>, std::array<int, 2>> edges;
-    for (std::size_t f : tris) {
-      const auto* t = m.bface(f);
+    for (const auto& [f, t] : tris) {
       for (int k = 0; k < 3; ++k) {
         const int a = t[k], b = t[(k + 1) % 3];
         auto& e = edges[{std::min(a, b), std::max(a, b)}];
@@ -296,11 +315,10 @@ std::vector<std::string> surface_defects(const SurfaceMesh& s, std::size_t max_l
   };
   auto xyz = [&](int n) { return m.nodes[static_cast<std::size_t>(n)]; };
   for (std::size_t solid = 1; solid < s.faces_of_solid.size(); ++solid) {
-    const std::vector<std::size_t> tris = triangles_of_solid(s, solid);
+    const std::vector<SolidTri> tris = triangles_of_solid(s, solid);
     std::map<std::pair<int, int>, std::vector<std::size_t>> edges;
     std::map<std::pair<int, int>, std::array<int, 2>> dir;
-    for (std::size_t f : tris) {
-      const auto* t = m.bface(f);
+    for (const auto& [f, t] : tris) {
       for (int k = 0; k < 3; ++k) {
         const int a = t[k], b = t[(k + 1) % 3];
         edges[{std::min(a, b), std::max(a, b)}].push_back(f);
