@@ -119,7 +119,7 @@ std::string growing_note(const ConvergenceStudy& s) {
 }  // namespace
 
 int ConvergenceStudy::num_frequencies() const {
-  std::size_t n = 6;
+  std::size_t n = rows.empty() ? 0 : rows.front().frequencies.size();
   for (const auto& r : rows) n = std::min(n, r.frequencies.size());
   return rows.empty() ? 0 : static_cast<int>(n);
 }

@@ -22,7 +22,7 @@ struct ConvergenceStudy {
   std::vector<ConvergenceRow> rows;  // in the order run (coarse to fine)
   std::vector<double> reference;     // Hz; empty when there is none
   std::string reference_source;
-  int num_frequencies() const;  // columns shown (min over rows, capped at 6)
+  int num_frequencies() const;  // columns shown: min over rows (every mode asked for)
   // Relative error of row r, frequency i, against the reference (NaN without one).
   double error(std::size_t r, int i) const;
   // Rows r-1 and r have the same mesh: the same node and cell counts and every frequency within

@@ -75,6 +75,24 @@ TEST(ConvergenceTable, NonMonotoneIsReported) {
   EXPECT_FALSE(s.monotone(0));
 }
 
+// Every mode asked for (--modes 10) gets its columns, errors and order; at most six did before,
+// outside the JSON.
+TEST(ConvergenceTable, EveryModeAskedForIsShown) {
+  ConvergenceStudy s;
+  for (double h : {2.0, 1.0, 0.5}) {
+    ConvergenceRow row;
+    row.h = h;
+    for (int i = 0; i < 10; ++i) row.frequencies.push_back((i + 1) * 100 * (1 + 0.01 * h * h));
+    s.rows.push_back(row);
+  }
+  s.rows[1].frequencies.push_back(5000);  // one row with more: the columns are the common ones
+  EXPECT_EQ(s.num_frequencies(), 10);
+  EXPECT_NE(convergence_text(s).find("f10 2.00"), std::string::npos) << convergence_text(s);
+  EXPECT_EQ(convergence_text(s).find("f11"), std::string::npos);
+  EXPECT_NE(convergence_csv(s).find(",f10"), std::string::npos) << convergence_csv(s);
+  EXPECT_NE(convergence_markdown(s).find("f10 (Hz)"), std::string::npos);
+}
+
 TEST(ConvergenceTable, TextMarkdownCsv) {
   const ConvergenceStudy s = quadratic_study(true);
   const std::string csv = convergence_csv(s);
