@@ -13,6 +13,7 @@
 #include "mesher/cad/cad_model.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/mesh_io.hpp"
+#include "mesher/pipeline.hpp"
 #include "mesher/surface_check.hpp"
 #include "mesher/surface_pipeline.hpp"
 
@@ -78,7 +79,8 @@ int run(const MeshArgs& a) {
   const CadModel cad = CadModel::read(a.file, CadReadOptions{a.glue});
   const double read_s = std::chrono::duration<double>(Clock::now() - t0).count();
   SurfaceReport rep;
-  const SurfaceMesh surface = mesh_surface(cad, opt, &rep);
+  std::vector<std::string> warnings;
+  const SurfaceMesh surface = mesh_surface_closest(cad, opt, rep, warnings);
   rep.stage_seconds.insert(rep.stage_seconds.begin(), {"read CAD", read_s});
 
   const auto& checks = rep.checks;  // mesh_surface checked its result already
@@ -112,9 +114,11 @@ int run(const MeshArgs& a) {
     j["cad_volume"] = cad.volume();
     for (auto& solid : j["solids"]) solid["cad_volume"] = cad.solid_volume(solid["id"].get<int>());
     if (!a.output.empty()) j["output"] = a.output;
+    j["warnings"] = warnings;
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
+  for (const std::string& w : warnings) std::fprintf(stderr, "hexfem: warning: %s\n", w.c_str());
   std::printf("%s: %d solid(s), %d faces (file unit %s, meshed in mm)\n", a.file.c_str(),
               cad.num_solids(), cad.num_faces(), cad.file_unit().c_str());
   std::printf("h = %g: %zu points (%zu on edges; area/h^2 = %.0f), %zu triangles\n", a.h,
@@ -131,8 +135,10 @@ int run(const MeshArgs& a) {
                 q.below_5_at_cad_corners, q.forcing_corner_min, q.forcing_corner_max);
   std::printf("\n");
   if (rep.curvature_used != a.curvature)
-    std::printf("curvature bound %d elements per turn (the first mesh failed its checks)\n",
-                rep.curvature_used);
+    std::printf(
+        "curvature bound %d elements per turn (the first mesh was invalid or far off the CAD "
+        "volume)\n",
+        rep.curvature_used);
   std::printf(
       "closed, outward, no self-intersection: %zu solid(s); enclosed volume %.9g (CAD %.9g)\n",
       checks.size(), enclosed, cad.volume());

@@ -230,6 +230,49 @@ std::string solid_volume_warning(const std::vector<SolidVolumeError>& solids, do
   return buf;
 }
 
+SurfaceMesh mesh_surface_closest(const CadModel& cad, const SurfaceOptions& options,
+                                 SurfaceReport& report, std::vector<std::string>& warnings) {
+  SurfaceMesh best = mesh_surface(cad, options, &report);
+  double off = surface_volume_error(cad, report, cad.volume());
+  const double first = off;
+  int curvature = options.curvature;
+  double earlier = 0;  // the attempts' seconds before the one kept
+  bool retried = false;
+  for (int attempt = 0;
+       attempt < kCurvatureRetries && options.repair && std::abs(off) > kVolumeErrorRetry;
+       ++attempt) {
+    curvature = curvature > 0 ? 2 * curvature : 16;
+    SurfaceOptions next = options;
+    next.curvature = curvature;
+    SurfaceReport again;
+    SurfaceMesh mesh;
+    try {
+      mesh = mesh_surface(cad, next, &again);
+    } catch (const Error&) {
+      break;  // the finer sizes exceed a budget or fail: keep the closest mesh so far
+    }
+    const double o = surface_volume_error(cad, again, cad.volume());
+    const bool closer = std::abs(o) < std::abs(off);
+    for (const auto& [stage, sec] : (closer ? report : again).stage_seconds) earlier += sec;
+    if (!closer) break;
+    best = std::move(mesh);
+    report = std::move(again);
+    off = o;
+    retried = true;
+  }
+  if (earlier > 0) report.stage_seconds.emplace_back("other attempts", earlier);
+  if (retried) {  // (mesh_surface's own retries, for a mesh that fails its checks, say nothing)
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "at h = %g %s %+.1f %% off %s CAD volume; meshed again with a curvature "
+                  "bound of %d elements per turn",
+                  options.h, cad.num_solids() > 1 ? "a solid's surface was" : "the surface was",
+                  100 * first, cad.num_solids() > 1 ? "its" : "the", report.curvature_used);
+    warnings.push_back(buf);
+  }
+  return best;
+}
+
 MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
   const double h = options.surface.h;

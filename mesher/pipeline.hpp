@@ -66,6 +66,13 @@ std::vector<SolidVolumeError> solid_volume_errors(const CadModel& cad,
                                                   const std::vector<SolidVolume>& mesh_volumes);
 std::string solid_volume_warning(const std::vector<SolidVolumeError>& solids, double h);
 
+// The surface mesh of every solid (`hexfem mesh --dim 2`), meshed again with a curvature bound
+// (16 elements per turn or twice the user's, doubled while it gets closer, as mesh_part does)
+// where its chords cut more than 5 % off the part or off one of its solids; the closest is kept
+// and `warnings` says so.
+SurfaceMesh mesh_surface_closest(const CadModel& cad, const SurfaceOptions& options,
+                                 SurfaceReport& report, std::vector<std::string>& warnings);
+
 // Hex-dominant mesh of every solid of the part. Throws hexfem::Error (one line) on bad options,
 // an h that would give more than max_volume_points without surface.force, or a failing stage.
 MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport* report = nullptr);

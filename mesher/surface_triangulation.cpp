@@ -171,6 +171,53 @@ bool star_unfolded(const CDT& cdt, CDT::Vertex_handle v) {
   return true;
 }
 
+bool all_unfolded(const CDT& cdt) {
+  for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh)
+    if (cdt.orientation(fh->vertex(0)->point(), fh->vertex(1)->point(), fh->vertex(2)->point()) !=
+        CGAL::LEFT_TURN)
+      return false;
+  return true;
+}
+
+// Whether CGAL's remove() can fill the hole v leaves. Its fill_hole_delaunay (Triangulation_2.h)
+// cuts the hole, the ring around v, at the Delaunay vertex left of its first edge, again and
+// again; where a part of the ring has no vertex strictly left of that edge (ring points exactly
+// in line, as a wild face's packing can give) it loops for ever. The same choices are made here
+// on the ring's points, and a removal that would not end is not made.
+bool removal_fills_its_hole(const CDT& cdt, CDT::Vertex_handle v) {
+  std::vector<CDT::Point> ring;
+  auto fc = cdt.incident_faces(v), end = fc;
+  do {
+    if (cdt.is_infinite(fc)) return false;
+    ring.push_back(fc->vertex(CDT::ccw(fc->index(v)))->point());
+  } while (++fc != end);
+  std::vector<std::vector<int>> holes(1);
+  for (int i = 0; i < static_cast<int>(ring.size()); ++i) holes[0].push_back(i);
+  while (!holes.empty()) {
+    const std::vector<int> h = std::move(holes.back());
+    holes.pop_back();
+    const CDT::Point &p0 = ring[h[0]], &p1 = ring[h[1]];
+    if (h.size() == 3) {
+      if (cdt.orientation(p0, p1, ring[h[2]]) != CGAL::LEFT_TURN) return false;
+      continue;
+    }
+    std::size_t cut = 0;  // the vertex h[cut] the first edge's triangle takes
+    for (std::size_t k = 2; k < h.size(); ++k) {
+      const CDT::Point& p = ring[h[k]];
+      if (cdt.orientation(p0, p1, p) != CGAL::LEFT_TURN) continue;
+      if (cut == 0 ||
+          cdt.side_of_oriented_circle(p0, p1, ring[h[cut]], p, true) == CGAL::ON_POSITIVE_SIDE)
+        cut = k;
+    }
+    if (cut == 0) return false;
+    if (cut >= 3) holes.emplace_back(h.begin() + 1, h.begin() + cut + 1);
+    std::vector<int> rest(h.begin() + cut, h.end());
+    rest.push_back(h[0]);
+    if (rest.size() >= 3) holes.push_back(std::move(rest));
+  }
+  return true;
+}
+
 void remove_flat_points(CDT& cdt, const FacePointSet& P) {
   const int nb = P.nb;
   // An interior point lying almost on the line between two of its neighbours (where the
@@ -205,7 +252,7 @@ void remove_flat_points(CDT& cdt, const FacePointSet& P) {
       before = std::min(before, min_angle(P, fc));
       ring.push_back(fc->vertex(CDT::ccw(fc->index(v))));
     } while (++fc != fc_end);
-    if (!inside || !star_unfolded(cdt, v)) continue;
+    if (!inside || !star_unfolded(cdt, v) || !removal_fills_its_hole(cdt, v)) continue;
     for (const auto& w : ring) {
       auto g = cdt.incident_faces(w), g_end = g;
       do
@@ -264,7 +311,7 @@ void remove_folded_points(CDT& cdt, const FacePointSet& P, const CadModel& cad, 
     if (folded.empty()) return;
     sort_by_id(folded);
     for (const auto& v : folded)
-      if (star_unfolded(cdt, v)) cdt.remove(v);
+      if (star_unfolded(cdt, v) && removal_fills_its_hole(cdt, v)) cdt.remove(v);
     mark_nesting_levels(cdt);
   }
 }
@@ -284,8 +331,13 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
   }
   mark_nesting_levels(cdt);
   out.flips = flip_toward_delaunay_3d(cdt, P);
-  remove_flat_points(cdt, P);
-  if (cad) remove_folded_points(cdt, P, *cad, f, scale);
+  // CGAL's removal restores the triangulation beyond the star too, and loops for ever where a
+  // triangle anywhere is flat or folded in the parameter plane (the fuzz's wild sphere with a
+  // curvature bound): such a face keeps its points.
+  if (all_unfolded(cdt)) {
+    remove_flat_points(cdt, P);
+    if (cad) remove_folded_points(cdt, P, *cad, f, scale);
+  }
   out.interior_used.assign(in.uv.size(), false);
   for (auto fh = cdt.finite_faces_begin(); fh != cdt.finite_faces_end(); ++fh) {
     if (!in_domain(cdt, fh)) continue;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -211,6 +212,28 @@ TEST(Reliability, ConvergeSaysTheSameMeshOnlyOfTheSameMesh) {
             0)
       << out;
   EXPECT_NE(out.find("h = 4.5 gave the same mesh as h = 6"), std::string::npos) << out;
+}
+
+// The tie rod at its diagonal / 30: the chords cut 22 % off its volume. The volume mesh was
+// made again with a curvature bound, while `mesh --dim 2` refused the same part ("too large for
+// this part"). Now the surface command retries the same way: the surface of the volume mesh,
+// with the same warning.
+TEST(Reliability, ASurfaceMeshIsMadeAgainAtACurvatureBoundAsTheVolumeIs) {
+  const std::string part = data("tie_rod.step") + " --h 4.264755 ";
+  int status = 0;
+  const nlohmann::json surface = cadtest::run_cli_json(
+      "mesh " + part + "--dim 2 --json -o " + work("tie_rod_surface.msh").string(), &status);
+  ASSERT_EQ(status, 0) << surface.dump();
+  const nlohmann::json volume = cadtest::run_cli_json(
+      "mesh " + part + "--json -o " + work("tie_rod_volume.msh").string(), &status);
+  ASSERT_EQ(status, 0) << volume.dump();
+  EXPECT_EQ(surface["points"], volume["surface_points"]);
+  EXPECT_EQ(surface["curvature_used"], 16);
+  ASSERT_EQ(surface["warnings"].size(), 1u) << surface["warnings"];
+  EXPECT_NE(surface["warnings"][0].get<std::string>().find("-22.3 % off the CAD volume; meshed "
+                                                           "again with a curvature bound of 16"),
+            std::string::npos)
+      << surface["warnings"];
 }
 
 // Item 9k: a .vtu output of a mesh with NC faces has a companion <stem>_nc.vtu; it is checked
