@@ -57,6 +57,16 @@ int main(int argc, char** argv) {
     print_error(std::string("unknown command '") + argv[1] + "' (commands: " + names + ")");
     return 2;
   }
+  // CLI11 reads an empty value as 0 for a number (`--h ""`: "must be > 0 (got 0.000000)"); no
+  // hexfem argument is empty, so one is named as such.
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] == '\0') {
+      print_error(i > 1 && argv[i - 1][0] == '-'
+                      ? std::string("the value after ") + argv[i - 1] + " is empty"
+                      : "argument " + std::to_string(i) + " is empty",
+                  " (see hexfem --help)");
+      return 2;
+    }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

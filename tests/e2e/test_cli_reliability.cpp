@@ -89,8 +89,15 @@ TEST(Reliability, OutputPathsAreCheckedBeforeTheWork) {
                    " --modes-out /proc/m.vtu",
                "is not writable");
   EXPECT_TRUE(nothing_in(dir));
-  expect_error("mesh " + part + " --h 0.3 -o ''", "the path is empty");  // was: no output, exit 0
-  expect_error("modal " + part + " --h 0.3 --free --ccx-deck ''", "the path is empty");
+  expect_error("mesh " + part + " --h 0.3 -o ''",
+               "the value after -o is empty");  // was: no output, exit 0
+  // A number read from an empty value was 0 ("--h must be > 0 (got 0.000000)").
+  expect_error("mesh " + part + " --h '' -o " + (dir / "x.msh").string(),
+               "the value after --h is empty");
+  expect_error("modal " + part + " --h 0.3 --fix face:1 --modes ''",
+               "the value after --modes is empty");
+  expect_error("modal " + part + " --h 0.3 --free --ccx-deck ''",
+               "the value after --ccx-deck is empty");
   const fs::path file = fresh_dir("rel_paths_file") / "f";
   std::ofstream(file) << "a file\n";
   expect_error("mesh " + part + " --h 0.3 -o " + (file / "x.msh").string(),
