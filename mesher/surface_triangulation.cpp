@@ -331,9 +331,8 @@ FaceTriangles triangulate_face(int f, const FaceBoundary& b, const FacePoints& i
   }
   mark_nesting_levels(cdt);
   out.flips = flip_toward_delaunay_3d(cdt, P);
-  // CGAL's removal restores the triangulation beyond the star too, and loops for ever where a
-  // triangle anywhere is flat or folded in the parameter plane (the fuzz's wild sphere with a
-  // curvature bound): such a face keeps its points.
+  // CGAL's removal assumes a valid triangulation of the plane; where the flips above left a
+  // triangle flat or folded there (none seen so far: a guard), the face keeps its points.
   if (all_unfolded(cdt)) {
     remove_flat_points(cdt, P);
     if (cad) remove_folded_points(cdt, P, *cad, f, scale);
