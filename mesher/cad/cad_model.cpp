@@ -501,6 +501,11 @@ void CadModel::Impl::build_tables() {
     if (!seen[i]) fd.face = TopoDS::Face(face_map(static_cast<int>(i) + 1));
     fd.reversed = fd.face.Orientation() == TopAbs_REVERSED;
     fd.surface = BRep_Tool::Surface(fd.face);
+    // A surface the reader could not build (a cone's half-angle of 1e308 in a damaged BREP; the
+    // fuzz, seed 71) is null here.
+    if (fd.surface.IsNull())
+      throw Error("face " + std::to_string(i + 1) +
+                  " has no surface (a damaged surface in the CAD file)");
     fd.type = surface_type_of(fd.face);
     BRepTools::UVBounds(fd.face, fd.bounds[0], fd.bounds[1], fd.bounds[2], fd.bounds[3]);
     if (fd.surface->IsUPeriodic()) fd.periods[0] = fd.surface->UPeriod();

@@ -294,6 +294,21 @@ TEST(CadModel, BrepWithARecordThatDoesNotParseIsAnError) {
       << what;
 }
 
+// Cone_1.brep with its cone's half-angle at 1e308 (the fuzz, seed 71): OpenCASCADE's reader
+// leaves the face without a surface, and reading the model crashed on it (SIGSEGV in `info`,
+// `mesh`). It is an Error naming the face now.
+TEST(CadModel, AFaceWithoutASurfaceIsAnError) {
+  std::string cone = cadtest::file_bytes(data("Cone_1.brep"));
+  const std::string angle = "\n-0.32175055439664219\n";
+  const auto at = cone.find(angle);
+  ASSERT_NE(at, std::string::npos);
+  cone.replace(at, angle.size(), "\n1e308\n");
+  const std::string path = work("cone_no_surface.brep");
+  std::ofstream(path, std::ios::binary) << cone;
+  const std::string what = quiet_read_error(path);
+  EXPECT_NE(what.find("face 1 has no surface"), std::string::npos) << what;
+}
+
 // OpenCASCADE's IGES reader crashed the process (SIGSEGV) on a truncated file (a B-spline
 // surface built from a cut parameter section) and on a face whose loop pointer names no entry,
 // and read other truncated files as whole: each must be an Error naming the file, printing
