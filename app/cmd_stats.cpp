@@ -1,6 +1,7 @@
 // hexfem stats mesh.msh [--json]: the paper's measures of a mixed mesh.
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <numeric>
 
 #include "app/cli_checks.hpp"
 #include "app/command_registry.hpp"
@@ -21,8 +22,7 @@ int run_stats(const std::string& path, bool json) {
     // The corners alone miss the curved boundary (a coarse sphere: 1 % of its volume) and a
     // cell folded between its nodes.
     const std::vector<double> volumes = element_volumes(mesh);
-    s.volume = 0;
-    for (double v : volumes) s.volume += v;
+    s.volume = std::accumulate(volumes.begin(), volumes.end(), 0.0);
     s.solid_volumes = volume_by_solid(mesh, volumes);
     long inverted = 0;
     const auto n = static_cast<std::ptrdiff_t>(mesh.num_cells());

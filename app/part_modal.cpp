@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 
 #include "app/ccx_deck.hpp"
 #include "app/cli_checks.hpp"
@@ -145,8 +146,7 @@ Order2Report raise_part_to_order2(MixedMesh& mesh, const CadModel& cad, bool all
     if (!straight.empty())
       warnings.erase(std::remove(warnings.begin(), warnings.end(), straight), warnings.end());
   const std::vector<double> volumes = element_volumes(mesh);
-  report.mesh_volume = 0;
-  for (double v : volumes) report.mesh_volume += v;
+  report.mesh_volume = std::accumulate(volumes.begin(), volumes.end(), 0.0);
   if (report.cad_volume > 0)
     report.volume_error = (report.mesh_volume - report.cad_volume) / report.cad_volume;
   if (const std::string w = volume_warning(report.volume_error, h); !w.empty())

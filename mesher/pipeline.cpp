@@ -38,6 +38,21 @@ void sort_unique(std::vector<int>& v) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
+// (V - V_CAD) / V_CAD of the solid farthest off its CAD volume, signed; NaN when there is no
+// solid or one has no CAD volume. `volumes` holds {solid, volume} records (a mesh's or a surface
+// check's); both the retries and the surface check judge a multi-solid part by it.
+template <class Volumes, class CadVolumeOf>
+double farthest_solid_error(const Volumes& volumes, CadVolumeOf cad_volume_of) {
+  double worst = std::nan("");
+  for (const auto& v : volumes) {
+    const double cad = cad_volume_of(v.solid);
+    if (!(cad > 0)) return std::nan("");
+    const double e = (v.volume - cad) / cad;
+    if (!(std::abs(e) <= std::abs(worst))) worst = e;
+  }
+  return worst;
+}
+
 // A report for a mesh made again: the CAD figures of the first one, nothing of its mesh.
 MeshReport report_for_retry(const MeshReport& r) {
   MeshReport again;
@@ -91,15 +106,12 @@ MixedMesh mesh_volume_checked(const SurfaceMesh& surface, const MeshOptions& opt
   r.volume_error = r.cad_volume > 0 ? (r.mesh_volume - r.cad_volume) / r.cad_volume : 0;
   r.retry_error = r.volume_error;
   if (r.solid_cad_volumes.size() > 2) {
-    double worst = 0;
-    for (const SolidVolume& v : stats.solid_volumes) {
-      const double cad = static_cast<std::size_t>(v.solid) < r.solid_cad_volumes.size()
-                             ? r.solid_cad_volumes[v.solid]
-                             : 0;
-      const double e = cad > 0 ? (v.volume - cad) / cad : 0;
-      if (std::abs(e) > std::abs(worst)) worst = e;
-    }
-    r.retry_error = worst;
+    const double worst = farthest_solid_error(stats.solid_volumes, [&](int solid) {
+      return static_cast<std::size_t>(solid) < r.solid_cad_volumes.size()
+                 ? r.solid_cad_volumes[solid]
+                 : 0.0;
+    });
+    if (!std::isnan(worst)) r.retry_error = worst;
   }
   return mesh;
 }
@@ -124,14 +136,7 @@ double surface_volume_error(const CadModel& cad, const SurfaceReport& surface, d
   if (cad.num_solids() == 1 && surface.checks.size() == 1)
     return (surface.checks.front().volume - cad_volume) / cad_volume;
   if (!per_solid) return std::nan("");  // faces between solids lie inside the part
-  double worst = std::nan("");
-  for (const auto& c : surface.checks) {
-    const double v = cad.solid_volume(c.solid);
-    if (!(v > 0)) return std::nan("");
-    const double e = (c.volume - v) / v;
-    if (!(std::abs(e) <= std::abs(worst))) worst = e;
-  }
-  return worst;
+  return farthest_solid_error(surface.checks, [&](int solid) { return cad.solid_volume(solid); });
 }
 
 // mesh_once; where its mesh has flat or inverted cells, or its surface mesh crosses itself, the
