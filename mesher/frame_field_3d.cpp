@@ -17,6 +17,8 @@ namespace bg = boost::geometry;
 namespace bgi = boost::geometry::index;
 using RPoint = bg::model::point<double, 3, bg::cs::cartesian>;
 using RValue = std::pair<RPoint, std::int32_t>;
+using RBox = bg::model::box<RPoint>;
+using RReach = std::pair<RBox, std::int32_t>;  // a smaller vertex and the box it lowers the size in
 
 namespace {
 
@@ -30,8 +32,11 @@ double lowering_reach(double s, double largest) {
 
 struct FrameField3D::Index {
   bgi::rtree<RValue, bgi::rstar<16>> tree;
-  bgi::rtree<RValue, bgi::rstar<16>> smaller;  // the vertices whose size is below the largest
-  double reach = 0;  // beyond this distance from every smaller vertex, the size is the largest
+  // The vertices whose size is below the largest, each as the box (L-infinity) beyond which it
+  // leaves the size at the largest: a point queries only the vertices that may lower its size.
+  // (One box of the widest reach around the point, as before, held many that cannot: the
+  // bottle at h = 0.18 took 17.7 s for its volume points instead of 11.1 s, the same points.)
+  bgi::rtree<RReach, bgi::rstar<16>> smaller;
   // A grid of cells over the surface's box: far[c] when no smaller vertex lies within reach of
   // any point of cell c (L-infinity), so that at_max_size is true there with no query. Most of a
   // part is such cells; the frontal insertion asks about ten million times.
@@ -134,15 +139,16 @@ FrameField3D::FrameField3D(const SurfaceMesh& surface) : index_(std::make_unique
   }
   // The packing constructor builds the same tree for the same input (deterministic queries).
   index_->tree = bgi::rtree<RValue, bgi::rstar<16>>(values.begin(), values.end());
-  std::vector<RValue> smaller;
-  double min_size = max_size_;
-  for (const RValue& value : values)
-    if (sizes_[value.second] < max_size_) {
-      smaller.push_back(value);
-      min_size = std::min(min_size, sizes_[value.second]);
+  std::vector<RReach> smaller;
+  for (std::size_t v = 0; v < n; ++v)
+    if (sizes_[v] < max_size_) {
+      const double r = lowering_reach(sizes_[v], max_size_);
+      const Vec3& x = nodes_[v];
+      smaller.emplace_back(
+          RBox(RPoint(x[0] - r, x[1] - r, x[2] - r), RPoint(x[0] + r, x[1] + r, x[2] + r)),
+          static_cast<std::int32_t>(v));
     }
-  index_->smaller = bgi::rtree<RValue, bgi::rstar<16>>(smaller.begin(), smaller.end());
-  index_->reach = lowering_reach(min_size, max_size_);
+  index_->smaller = bgi::rtree<RReach, bgi::rstar<16>>(smaller.begin(), smaller.end());
   index_->build_far(nodes_, sizes_, max_size_);
 }
 
@@ -150,10 +156,8 @@ bool FrameField3D::at_max_size(const Vec3& p) const {
   if (index_->smaller.empty()) return true;
   const std::int64_t c = index_->cells.cell_inside(p);
   if (c >= 0 && index_->far[static_cast<std::size_t>(c)]) return true;
-  const double r = index_->reach;
-  const bg::model::box<RPoint> box(RPoint(p[0] - r, p[1] - r, p[2] - r),
-                                   RPoint(p[0] + r, p[1] + r, p[2] + r));
-  for (auto it = index_->smaller.qbegin(bgi::intersects(box)); it != index_->smaller.qend(); ++it)
+  const RPoint q(p[0], p[1], p[2]);
+  for (auto it = index_->smaller.qbegin(bgi::intersects(q)); it != index_->smaller.qend(); ++it)
     if (size_at(p, it->second) < max_size_) return false;
   return true;
 }

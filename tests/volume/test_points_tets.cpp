@@ -107,9 +107,10 @@ TEST(FrameField3D, SizeGrowsAwayFromASmallVertexUpToTheLargestSize) {
   EXPECT_DOUBLE_EQ(f.size_at(far, v), 0.25);
 }
 
-// at_max_size is the nearest-vertex size test without the nearest vertex: wherever it says yes,
-// the size at the true nearest vertex (found here by brute force) is the largest; and it says
-// yes everywhere on a uniform size field. Points on a grid through and around the cylinder.
+// at_max_size is the nearest-vertex size test without the nearest vertex: it says yes exactly
+// where no vertex lowers the size (all tried by brute force), so there the size at the true
+// nearest vertex is the largest; and it says yes everywhere on a uniform size field. Points on a
+// grid through and around the cylinder.
 TEST(FrameField3D, AtMaxSizeAgreesWithTheSizeAtTheNearestVertex) {
   SurfaceMesh s = synthetic::cylinder_surface(1.0, 2.0, 0.25);
   const FrameField3D uniform(s);
@@ -132,6 +133,12 @@ TEST(FrameField3D, AtMaxSizeAgreesWithTheSizeAtTheNearestVertex) {
           }
         }
         const bool at_max = f.size_at(p, best) == f.max_size();
+        // Exactly: no vertex at all lowers the size at p (the index may only skip vertices
+        // that cannot).
+        bool lowered = false;
+        for (std::size_t v = 0; v < s.mesh.nodes.size(); ++v)
+          lowered = lowered || f.size_at(p, static_cast<std::int32_t>(v)) < f.max_size();
+        EXPECT_EQ(f.at_max_size(p), !lowered) << p[0] << " " << p[1] << " " << p[2];
         if (f.at_max_size(p)) {
           EXPECT_TRUE(at_max) << p[0] << " " << p[1] << " " << p[2];
           ++yes;
