@@ -166,7 +166,8 @@ RegisterCommand reg{
        sub.add_flag(
            "--force", a->force,
            "allow more than 1 M surface points or 20 M interior points (estimated before the "
-           "work), and a mesh whose volume is more than 10 % off the CAD volume");
+           "work), more memory than the machine has available (at least 1.35 GB per million "
+           "interior points), and a mesh whose volume is more than 10 % off the CAD volume");
        sub.add_option("--curvature", a->curvature,
                       "curvature bound: N elements per 2*pi (0 = off)");
        sub.add_option(

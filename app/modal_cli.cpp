@@ -74,7 +74,9 @@ void add_modal_options(CLI::App& sub, ModalCliOptions& o) {
                "edges got (as on `mesh`)");
   sub.add_flag("--force", o.force,
                "CAD input: allow more than 1 M surface points or 20 M interior points (estimated "
-               "before the work), and a mesh whose volume is more than 10 % off the CAD volume");
+               "before the work), more memory than the machine has available (at least 1.35 GB "
+               "per million interior points), and a mesh whose volume is more than 10 % off the "
+               "CAD volume");
 }
 
 std::vector<int> clamped_cad_faces(const CadModel& cad, const std::vector<std::string>& fix) {

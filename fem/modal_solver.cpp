@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <string>
 
 #include "fem/boundary.hpp"
@@ -16,6 +15,7 @@
 #include "fem/petsc_env.hpp"
 #include "mesher/mesh/error.hpp"
 #include "mesher/mesh/quality.hpp"
+#include "mesher/mesh/system_memory.hpp"
 
 #ifdef HEXFEM_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
@@ -36,16 +36,6 @@ constexpr int kAutoStallIterations = 60;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// MemAvailable of /proc/meminfo [bytes]; 0 when unknown.
-double available_memory_bytes() {
-  std::ifstream in("/proc/meminfo");
-  std::string key, unit;
-  double kb = 0;
-  while (in >> key >> kb >> unit)
-    if (key == "MemAvailable:") return kb * 1024;
-  return 0;
 }
 
 // y = (K - σM)^-1 x for Spectra, factorized once per shift. K and M share one pattern, so

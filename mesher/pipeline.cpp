@@ -11,6 +11,7 @@
 #include "mesher/mesh/mesh_stats.hpp"
 #include "mesher/mesh/progress.hpp"
 #include "mesher/mesh/quality.hpp"
+#include "mesher/mesh/system_memory.hpp"
 
 namespace hexfem {
 
@@ -32,6 +33,11 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // How often the CAD faces under flat or inverted cells are meshed again, each time at half the
 // size before (h/2, h/4).
 constexpr int kLocalRefinements = 2;
+// The least memory a mesh takes per estimated interior point (V / h^3): every shared model at
+// 1.1-1.4M vertices peaked at 1.45-3.9 GB per million (validation/volume.md, session 40), ANC101
+// at 2M at 1.41. A floor, so that only a run sure to run out is refused; ANC101 at 19.8M was
+// killed by the system with 24.2 GB available (1.2 GB per million had let it start).
+constexpr double kBytesPerVolumePoint = 1.35e3;
 
 void sort_unique(std::vector<int>& v) {
   std::sort(v.begin(), v.end());
@@ -293,6 +299,19 @@ MixedMesh mesh_part(const CadModel& cad, const MeshOptions& options, MeshReport*
                   "h = %g would give about %.3g interior points (limit %.3g); use a larger h or "
                   "--force",
                   h, estimate, options.max_volume_points);
+    throw Error(buf);
+  }
+  // A run that needs more memory than the machine has would be killed by the system after
+  // minutes of work, without a word: refused now, on a floor of the memory it needs.
+  const double need = kBytesPerVolumePoint * estimate;
+  const double have =
+      options.memory_limit_bytes > 0 ? options.memory_limit_bytes : available_memory_bytes();
+  if (have > 0 && need > have && !options.surface.force) {
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "h = %g would need at least %.1f GB of memory (about %.3g interior points), "
+                  "more than the %.1f GB available; use a larger h or --force",
+                  h, need / 1e9, estimate, have / 1e9);
     throw Error(buf);
   }
   MeshReport local;

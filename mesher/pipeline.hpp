@@ -21,6 +21,9 @@ struct MeshOptions {
   SurfaceOptions surface;  // surface.h is the target size (mm), surface.force lifts the limits
   VolumeOptions volume;
   double max_volume_points = 20e6;  // estimated interior points (V / h^3) allowed without force
+  // Memory the run may use (bytes) before an h is refused without force; 0: what the machine
+  // has available now (MemAvailable).
+  double memory_limit_bytes = 0;
 };
 
 // One CAD solid's mesh volume against its CAD volume (mm^3).

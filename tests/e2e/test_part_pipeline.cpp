@@ -102,6 +102,30 @@ TEST(PartPipeline, BadInputIsReported) {
   EXPECT_NE(error_of([&] { mesh_part(cad, huge); }).find("--force"), std::string::npos);
 }
 
+// An h whose mesh needs more memory than the machine has is refused before any work, not killed
+// by the system minutes later. The floor is 1.35 kB per estimated interior point V / h^3 (1.35 GB
+// per million, below every part measured): worked out here from the CAD volume, and the limit
+// set just above and just below it.
+TEST(PartPipeline, AnHThatNeedsMoreMemoryThanThereIsIsRefused) {
+  const CadModel cad = CadModel::read(kSteelPart);
+  MeshOptions options;
+  options.surface.h = 2.0;
+  const double need = 1.35e3 * cad.volume() / 8.0;
+  MeshOptions short_of = options;
+  short_of.memory_limit_bytes = 0.9 * need;
+  const std::string e = error_of([&] { mesh_part(cad, short_of); });
+  char figures[200];
+  std::snprintf(figures, sizeof figures, "would need at least %.1f GB of memory", need / 1e9);
+  EXPECT_NE(e.find(figures), std::string::npos) << e;
+  EXPECT_NE(e.find("--force"), std::string::npos) << e;
+  MeshOptions enough = options;
+  enough.memory_limit_bytes = 1.1 * need;
+  EXPECT_GT(mesh_part(cad, enough).num_cells(), 0u);
+  MeshOptions forced = short_of;
+  forced.surface.force = true;
+  EXPECT_GT(mesh_part(cad, forced).num_cells(), 0u);
+}
+
 // A coarse h cuts volume off a curved part (chords); the user is told by how much. The
 // cylinder of tests/data: radius 6.7524 mm, length 42.5 mm (its bounding box), V = pi r^2 L.
 TEST(PartPipeline, VolumeFarOffTheCadIsAWarning) {
