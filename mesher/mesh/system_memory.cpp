@@ -1,17 +1,73 @@
 #include "mesher/mesh/system_memory.hpp"
 
 #include <fstream>
-#include <string>
+#include <sstream>
 
 namespace hexfem {
+
+namespace {
+
+// The number in a limit file, or 0 for "max", a missing file or a value meaning no limit (v1
+// writes 2^63 rounded down to a page).
+double limit_in(const std::string& path) {
+  std::ifstream in(path);
+  double bytes = 0;
+  if (!(in >> bytes) || !(bytes > 0) || bytes >= 1e18) return 0;
+  return bytes;
+}
+
+// The lowest limit in `file` from the group at `path` up to the hierarchy's root. Inside a
+// container the group's own path may not exist under the mount (its root is the container's
+// group): the walk then ends at the root.
+double lowest_up(const std::string& hierarchy, std::string path, const std::string& file) {
+  double lowest = 0;
+  while (true) {
+    const double here = limit_in(hierarchy + (path == "/" ? "" : path) + "/" + file);
+    if (here > 0 && (lowest == 0 || here < lowest)) lowest = here;
+    if (path.empty() || path == "/") break;
+    const auto slash = path.find_last_of('/');
+    path = slash == 0 || slash == std::string::npos ? "/" : path.substr(0, slash);
+  }
+  return lowest;
+}
+
+}  // namespace
+
+double cgroup_memory_limit(const std::string& self, const std::string& root) {
+  std::ifstream in(self);
+  std::string line;
+  double lowest = 0;
+  auto take = [&](double limit) {
+    if (limit > 0 && (lowest == 0 || limit < lowest)) lowest = limit;
+  };
+  while (std::getline(in, line)) {
+    // id:controllers:path; v2 is "0::path".
+    const auto a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
+    if (b == std::string::npos) continue;
+    const std::string controllers = line.substr(a + 1, b - a - 1), path = line.substr(b + 1);
+    if (controllers.empty()) {
+      take(lowest_up(root, path, "memory.max"));
+    } else {
+      std::stringstream list(controllers);
+      for (std::string c; std::getline(list, c, ',');)
+        if (c == "memory") take(lowest_up(root + "/memory", path, "memory.limit_in_bytes"));
+    }
+  }
+  return lowest;
+}
 
 double available_memory_bytes() {
   std::ifstream in("/proc/meminfo");
   std::string key, unit;
-  double kb = 0;
+  double kb = 0, available = 0;
   while (in >> key >> kb >> unit)
-    if (key == "MemAvailable:") return kb * 1024;
-  return 0;
+    if (key == "MemAvailable:") {
+      available = kb * 1024;
+      break;
+    }
+  const double limit = cgroup_memory_limit();
+  if (limit > 0 && (available == 0 || limit < available)) available = limit;
+  return available;
 }
 
 }  // namespace hexfem
