@@ -21,6 +21,7 @@
 #include "mesher/mesh/mesh_io.hpp"
 #include "mesher/mesh/structured_box.hpp"
 #include "tests/support/ccx_reference.hpp"
+#include "tests/support/work_dir.hpp"
 
 namespace hexfem {
 namespace {
@@ -28,10 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path work_dir(const std::string& name) {
-  const fs::path dir = fs::path(HEXFEM_WORK_DIR) / "ccx_deck" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test::fresh_work_dir("ccx_deck", name);
 }
 
 // 100 x 10 x 10 (mm or m) bar of 20 x 2 x 2 hexes: solid 1 for x < 50, solid 2 beyond.

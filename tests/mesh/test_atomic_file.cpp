@@ -13,6 +13,7 @@
 
 #include "mesher/mesh/atomic_file.hpp"
 #include "mesher/mesh/error.hpp"
+#include "tests/support/work_dir.hpp"
 
 namespace hexfem {
 namespace {
@@ -20,10 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(HEXFEM_WORK_DIR) / "atomic_file" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return test::fresh_work_dir("atomic_file", name);
 }
 
 std::vector<std::string> listing(const fs::path& dir) {
@@ -68,7 +66,8 @@ TEST(AtomicFile, ADirectoryIsRefusedByName) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
-    // The temp file's name (".hexfem-XXXXXXXXXX.tmp") must not leak; the path itself may hold "tmp".
+    // The temp file's name (".hexfem-XXXXXXXXXX.tmp") must not leak; the path itself may hold
+    // "tmp".
     EXPECT_EQ(std::string(e.what()).find(".hexfem-"), std::string::npos) << e.what();
   }
   EXPECT_EQ(listing(d), std::vector<std::string>{"out.msh"});

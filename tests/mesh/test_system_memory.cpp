@@ -7,6 +7,7 @@
 #include <string>
 
 #include "mesher/mesh/system_memory.hpp"
+#include "tests/support/work_dir.hpp"
 
 namespace hexfem {
 namespace {
@@ -14,10 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(HEXFEM_WORK_DIR) / "system_memory" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return test::fresh_work_dir("system_memory", name);
 }
 
 void write(const fs::path& p, const std::string& text) {
