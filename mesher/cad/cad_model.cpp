@@ -381,6 +381,10 @@ SurfaceType surface_type_of(const TopoDS_Face& f) {
 
 // Whether a, grown by 1e-9 of its size, lies in b: an optimal box can stick out of the cheap one
 // by rounding (1.8e-15 mm on a 5 mm part, a plane's corner against its edges' points).
+bool finite(const gp_Pnt& p) {
+  return std::isfinite(p.X()) && std::isfinite(p.Y()) && std::isfinite(p.Z());
+}
+
 bool inside(const Bnd_Box& a, const Bnd_Box& b) {
   if (a.IsVoid() || b.IsVoid()) return false;  // no cheap box: the optimal one is made
   double a0[3], a1[3], b0[3], b1[3];
@@ -474,7 +478,15 @@ void CadModel::Impl::build_tables() {
     TopExp::Vertices(e.edge, v1, v2);
     e.vertices = {v1.IsNull() ? 0 : vertex_map.FindIndex(v1),
                   v2.IsNull() ? 0 : vertex_map.FindIndex(v2)};
-    if (!e.degenerate) e.length = GCPnts_AbscissaPoint::Length(BRepAdaptor_Curve(e.edge));
+    if (!e.degenerate) {
+      e.length = GCPnts_AbscissaPoint::Length(BRepAdaptor_Curve(e.edge));
+      // A curve whose numbers are damaged (a circle's centre at NaN in a fuzzed BREP, seed 89)
+      // gives points that are not numbers: every later stage would compute with them.
+      if (!finite(e.curve->Value(0.5 * (e.first + e.last))) || !std::isfinite(e.length))
+        throw Error("edge " + std::to_string(i) +
+                    ": its curve gives points that are not finite numbers (a damaged curve in "
+                    "the CAD file)");
+    }
   }
 
   faces.resize(face_map.Extent());
@@ -508,6 +520,12 @@ void CadModel::Impl::build_tables() {
                   " has no surface (a damaged surface in the CAD file)");
     fd.type = surface_type_of(fd.face);
     BRepTools::UVBounds(fd.face, fd.bounds[0], fd.bounds[1], fd.bounds[2], fd.bounds[3]);
+    // The same for a surface (a plane's origin at NaN).
+    if (!finite(fd.surface->Value(0.5 * (fd.bounds[0] + fd.bounds[1]),
+                                  0.5 * (fd.bounds[2] + fd.bounds[3]))))
+      throw Error("face " + std::to_string(i + 1) +
+                  ": its surface gives points that are not finite numbers (a damaged surface "
+                  "in the CAD file)");
     if (fd.surface->IsUPeriodic()) fd.periods[0] = fd.surface->UPeriod();
     if (fd.surface->IsVPeriodic()) fd.periods[1] = fd.surface->VPeriod();
     // Coedges in wire order; the face is taken FORWARD so the wire orientation is the one

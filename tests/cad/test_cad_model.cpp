@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -307,6 +308,28 @@ TEST(CadModel, AFaceWithoutASurfaceIsAnError) {
   std::ofstream(path, std::ios::binary) << cone;
   const std::string what = quiet_read_error(path);
   EXPECT_NE(what.find("face 1 has no surface"), std::string::npos) << what;
+}
+
+// A circle whose centre is NaN (the fuzz, seed 89: `mesh --dim 2` computed grid cells from the
+// NaN points, an overflow the sanitizer caught) and a plane whose origin is NaN: each is an error
+// naming the edge or the face, before any meshing.
+TEST(CadModel, ACurveOrSurfaceThatGivesNoNumbersIsAnError) {
+  const std::string cone = cadtest::file_bytes(data("Cone_1.brep"));
+  const std::vector<std::array<std::string, 3>> cases = {
+      {"\n2 0 0 0 0 0 1 1 0 -0 -0 1 0 100\n", "\n2 NaN 0 0 0 0 1 1 0 -0 -0 1 0 100\n",
+       "edge 3: its curve gives points that are not finite numbers"},
+      {"\n1 0 0 0 0 0 1 1 0 -0 -0 1 0 \n", "\n1 0 NaN 0 0 0 1 1 0 -0 -0 1 0 \n",
+       "face 2: its surface gives points that are not finite numbers"}};
+  for (const auto& [good, bad, expected] : cases) {
+    std::string damaged = cone;
+    const auto at = damaged.find(good);
+    ASSERT_NE(at, std::string::npos) << good;
+    damaged.replace(at, good.size(), bad);
+    const std::string path = work("cone_nan.brep");
+    std::ofstream(path, std::ios::binary) << damaged;
+    const std::string what = quiet_read_error(path);
+    EXPECT_NE(what.find(expected), std::string::npos) << what;
+  }
 }
 
 // OpenCASCADE's IGES reader crashed the process (SIGSEGV) on a truncated file (a B-spline
