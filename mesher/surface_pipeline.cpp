@@ -286,9 +286,11 @@ void align_opposite_faces(const CadModel& cad, const EdgePoints& edges, FaceWork
   const double reach = (o.align_opposite + 1) * o.h;
   auto cell = [&](const Vec3& p, int dx, int dy, int dz) {
     auto c = [&](double x, int d) {
-      return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / reach)) + d +
-                                        (1 << 20)) &
-             0x1fffff;
+      // A point off every range (NaN from a damaged surface) still gets a cell, without the
+      // undefined conversion: the surface checks refuse such a mesh afterwards.
+      const double q = std::floor(x / reach);
+      const std::int64_t i = q > -1e15 && q < 1e15 ? static_cast<std::int64_t>(q) : 0;
+      return static_cast<std::uint64_t>(i + d + (1 << 20)) & 0x1fffff;
     };
     return c(p[0], dx) << 42 | c(p[1], dy) << 21 | c(p[2], dz);
   };

@@ -311,21 +311,24 @@ TEST(CadModel, AFaceWithoutASurfaceIsAnError) {
 }
 
 // A circle whose centre is NaN (the fuzz, seed 89: `mesh --dim 2` computed grid cells from the
-// NaN points, an overflow the sanitizer caught) and a plane whose origin is NaN: each is an error
-// naming the edge or the face, before any meshing.
+// NaN points, an overflow the sanitizer caught), a plane whose origin is NaN, and a B-spline
+// surface with a control point at -1e308 (seed 97: finite at its middle, NaN inside): each is an
+// error naming the edge or the face, before any meshing.
 TEST(CadModel, ACurveOrSurfaceThatGivesNoNumbersIsAnError) {
-  const std::string cone = cadtest::file_bytes(data("Cone_1.brep"));
-  const std::vector<std::array<std::string, 3>> cases = {
-      {"\n2 0 0 0 0 0 1 1 0 -0 -0 1 0 100\n", "\n2 NaN 0 0 0 0 1 1 0 -0 -0 1 0 100\n",
+  const std::vector<std::array<std::string, 4>> cases = {
+      {"Cone_1.brep", "\n2 0 0 0 0 0 1 1 0 -0 -0 1 0 100\n",
+       "\n2 NaN 0 0 0 0 1 1 0 -0 -0 1 0 100\n",
        "edge 3: its curve gives points that are not finite numbers"},
-      {"\n1 0 0 0 0 0 1 1 0 -0 -0 1 0 \n", "\n1 0 NaN 0 0 0 1 1 0 -0 -0 1 0 \n",
-       "face 2: its surface gives points that are not finite numbers"}};
-  for (const auto& [good, bad, expected] : cases) {
-    std::string damaged = cone;
+      {"Cone_1.brep", "\n1 0 0 0 0 0 1 1 0 -0 -0 1 0 \n", "\n1 0 NaN 0 0 0 1 1 0 -0 -0 1 0 \n",
+       "face 2: its surface gives points that are not finite numbers"},
+      {"cube_10x10.igs", "10.,-5.,5.,0.,5.,5.,10.,5.;", "10.,-5.,5.,-1e308,5.,5.,10.,5.;",
+       "face 3: its surface gives points that are not finite numbers"}};
+  for (const auto& [file, good, bad, expected] : cases) {
+    std::string damaged = cadtest::file_bytes(data(file));
     const auto at = damaged.find(good);
     ASSERT_NE(at, std::string::npos) << good;
     damaged.replace(at, good.size(), bad);
-    const std::string path = work("cone_nan.brep");
+    const std::string path = work("nan_" + file);
     std::ofstream(path, std::ios::binary) << damaged;
     const std::string what = quiet_read_error(path);
     EXPECT_NE(what.find(expected), std::string::npos) << what;
