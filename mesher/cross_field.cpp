@@ -173,6 +173,32 @@ void triangulate_background(CDT& cdt, int f, const FaceBoundary& b, Vec2 scale, 
   }
   if (cdt.dimension() < 2)
     throw Error("face " + std::to_string(f) + ": its boundary is flat in the parameter plane");
+  // The boundary must not run over itself: no segment split by another boundary point or a
+  // crossing, and no turn back along itself at a point (a sliver of no width). CGAL's
+  // refinement is not to be trusted on such a domain (the fuzz, seed 97: a cylinder whose seam
+  // line lies off its surface doubled back along its bottom circle in the parameter plane and
+  // crashed it with a null neighbour).
+  const std::string runs_over = "face " + std::to_string(f) +
+                                ": its boundary runs over itself in the parameter plane; its edge "
+                                "curves may not lie on the surface";
+  std::vector<int> next(b.uv.size(), -1);
+  for (const auto& seg : b.segments) {
+    const auto va = handles[static_cast<std::size_t>(seg[0])],
+               vb = handles[static_cast<std::size_t>(seg[1])];
+    if (va == vb) continue;
+    if (!cdt.is_edge(va, vb)) throw Error(runs_over);
+    next[static_cast<std::size_t>(seg[0])] = seg[1];
+  }
+  auto at = [&](int i) { return b.uv[static_cast<std::size_t>(i)]; };
+  for (const auto& seg : b.segments) {
+    const int n = next[static_cast<std::size_t>(seg[1])];
+    if (n < 0 || next[static_cast<std::size_t>(seg[0])] != seg[1]) continue;
+    const Vec2 p = at(seg[0]), q = at(seg[1]), r = at(n);
+    const double ax = (q[0] - p[0]) * scale[0], ay = (q[1] - p[1]) * scale[1];
+    const double bx = (r[0] - q[0]) * scale[0], by = (r[1] - q[1]) * scale[1];
+    const double la = std::hypot(ax, ay), lb = std::hypot(bx, by);
+    if (la > 0 && lb > 0 && ax * bx + ay * by < -(1 - 1e-9) * la * lb) throw Error(runs_over);
+  }
   mark_nesting_levels(cdt);
   for (auto fh = cdt.all_faces_begin(); fh != cdt.all_faces_end(); ++fh)
     fh->set_in_domain(!cdt.is_infinite(fh) && fh->info() % 2 == 1);

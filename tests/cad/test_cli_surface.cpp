@@ -180,6 +180,21 @@ TEST(CliSurface, BoundaryPointsThatCoincideAreAnErrorNotAHang) {
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
 }
 
+// The fuzz's cylinder with the origin of its seam line moved off the surface (seed 97, two
+// lines of the STEP file swapped): in the parameter plane the face's boundary ran back along
+// its bottom circle, and CGAL's refinement of the cross field's background mesh crashed
+// (SIGSEGV) at a curvature bound. Such a face is now refused, and the command ends in one line.
+TEST(CliSurface, ABoundaryThatRunsOverItselfIsRefusedNotACrash) {
+  const auto off = damaged_copy("cylinder.stp",
+                                "#34 = CARTESIAN_POINT('',(-67.11767521109,177.49999964728,\n"
+                                "    -260.7772396701));",
+                                "-260.7772396701", "0.995605716477", "seam_off.stp");
+  std::string out;
+  EXPECT_EQ(run_cli("mesh " + off.string() + " --h 3 --dim 2", &out, "timeout 120"), 1) << out;
+  EXPECT_EQ(out.rfind("hexfem: error: ", 0), 0u) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+}
+
 TEST(CliSurface, BadInputFailsWithOneLine) {
   {
     std::ofstream(work("cli_empty.step"));
