@@ -379,12 +379,19 @@ SurfaceType surface_type_of(const TopoDS_Face& f) {
   }
 }
 
-// Whether a, grown by 1e-9 of its size, lies in b: an optimal box can stick out of the cheap one
-// by rounding (1.8e-15 mm on a 5 mm part, a plane's corner against its edges' points).
 bool finite(const gp_Pnt& p) {
   return std::isfinite(p.X()) && std::isfinite(p.Y()) && std::isfinite(p.Z());
 }
 
+// A face whose surface gives points that are not numbers somewhere (a damaged file).
+Error damaged_surface(std::size_t face_index) {
+  return Error("face " + std::to_string(face_index + 1) +
+               ": its surface gives points that are not finite numbers (a damaged surface in the "
+               "CAD file)");
+}
+
+// Whether a, grown by 1e-9 of its size, lies in b: an optimal box can stick out of the cheap one
+// by rounding (1.8e-15 mm on a 5 mm part, a plane's corner against its edges' points).
 bool inside(const Bnd_Box& a, const Bnd_Box& b) {
   if (a.IsVoid() || b.IsVoid()) return false;  // no cheap box: the optimal one is made
   double a0[3], a1[3], b0[3], b1[3];
@@ -523,9 +530,7 @@ void CadModel::Impl::build_tables() {
     // The same for a surface (a plane's origin at NaN).
     if (!finite(fd.surface->Value(0.5 * (fd.bounds[0] + fd.bounds[1]),
                                   0.5 * (fd.bounds[2] + fd.bounds[3]))))
-      throw Error("face " + std::to_string(i + 1) +
-                  ": its surface gives points that are not finite numbers (a damaged surface "
-                  "in the CAD file)");
+      throw damaged_surface(i);
     if (fd.surface->IsUPeriodic()) fd.periods[0] = fd.surface->UPeriod();
     if (fd.surface->IsVPeriodic()) fd.periods[1] = fd.surface->VPeriod();
     // Coedges in wire order; the face is taken FORWARD so the wire orientation is the one
@@ -574,9 +579,7 @@ void CadModel::Impl::build_tables() {
     // shows in its integrals.
     if (!std::isfinite(fd.area) || !std::isfinite(fd.centroid[0]) ||
         !std::isfinite(fd.centroid[1]) || !std::isfinite(fd.centroid[2]))
-      throw Error("face " + std::to_string(i + 1) +
-                  ": its surface gives points that are not finite numbers (a damaged surface "
-                  "in the CAD file)");
+      throw damaged_surface(i);
     if (!fd.solids.empty()) area += fd.area;
   }
   face_bbox.resize(faces.size());

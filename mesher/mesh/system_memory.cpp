@@ -7,6 +7,11 @@ namespace hexfem {
 
 namespace {
 
+// The lower of two limits, 0 meaning none.
+double lower_limit(double a, double b) {
+  return a > 0 && (b == 0 || a < b) ? a : b;
+}
+
 // The number in a limit file, or 0 for "max", a missing file or a value meaning no limit (v1
 // writes 2^63 rounded down to a page).
 double limit_in(const std::string& path) {
@@ -22,8 +27,7 @@ double limit_in(const std::string& path) {
 double lowest_up(const std::string& hierarchy, std::string path, const std::string& file) {
   double lowest = 0;
   while (true) {
-    const double here = limit_in(hierarchy + (path == "/" ? "" : path) + "/" + file);
-    if (here > 0 && (lowest == 0 || here < lowest)) lowest = here;
+    lowest = lower_limit(limit_in(hierarchy + (path == "/" ? "" : path) + "/" + file), lowest);
     if (path.empty() || path == "/") break;
     const auto slash = path.find_last_of('/');
     path = slash == 0 || slash == std::string::npos ? "/" : path.substr(0, slash);
@@ -37,20 +41,18 @@ double cgroup_memory_limit(const std::string& self, const std::string& root) {
   std::ifstream in(self);
   std::string line;
   double lowest = 0;
-  auto take = [&](double limit) {
-    if (limit > 0 && (lowest == 0 || limit < lowest)) lowest = limit;
-  };
   while (std::getline(in, line)) {
     // id:controllers:path; v2 is "0::path".
     const auto a = line.find(':'), b = a == std::string::npos ? a : line.find(':', a + 1);
     if (b == std::string::npos) continue;
     const std::string controllers = line.substr(a + 1, b - a - 1), path = line.substr(b + 1);
     if (controllers.empty()) {
-      take(lowest_up(root, path, "memory.max"));
+      lowest = lower_limit(lowest_up(root, path, "memory.max"), lowest);
     } else {
       std::stringstream list(controllers);
       for (std::string c; std::getline(list, c, ',');)
-        if (c == "memory") take(lowest_up(root + "/memory", path, "memory.limit_in_bytes"));
+        if (c == "memory")
+          lowest = lower_limit(lowest_up(root + "/memory", path, "memory.limit_in_bytes"), lowest);
     }
   }
   return lowest;
@@ -65,9 +67,7 @@ double available_memory_bytes() {
       available = kb * 1024;
       break;
     }
-  const double limit = cgroup_memory_limit();
-  if (limit > 0 && (available == 0 || limit < available)) available = limit;
-  return available;
+  return lower_limit(cgroup_memory_limit(), available);
 }
 
 }  // namespace hexfem
